@@ -1,0 +1,132 @@
+// The `taskmatrix` command line. Verbs: list, render, scenes (more come with the scenario
+// runner). Every failure is one line on stderr and a non-zero exit status.
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "harness/model_catalog.h"
+#include "harness/scenes_job.h"
+#include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/obstacle_layout.h"
+#include "taskmatrix/mujoco/offscreen_renderer.h"
+#include "taskmatrix/mujoco/scene.h"
+
+namespace {
+
+using taskmatrix::harness::ModelCatalog;
+
+struct RenderOptions {
+  std::string robot, environment, camera, posture = "rest", out;
+  std::uint64_t seed = 1;
+  int obstacles = 8;
+  int width = 960, height = 720;
+  bool depth = false;
+};
+
+int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
+  namespace mj = taskmatrix::mujoco;
+  auto scene = mj::Scene::load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
+  mj::WorkerScene worker(scene);
+  worker.apply_layout(taskmatrix::core::generate_layout(scene->layout_request(o.obstacles), o.seed));
+  std::vector<double> qpos = scene->start_qpos();
+  try {
+    scene->apply_posture(o.posture, qpos.data());
+  } catch (const std::out_of_range& e) {
+    throw taskmatrix::core::InputError("--posture", "", e.what());
+  }
+  std::copy(qpos.begin(), qpos.end(), worker.data()->qpos);
+  mj_forward(worker.model(), worker.data());
+
+  mj::CameraView view;
+  std::string camera = o.camera;
+  if (camera.empty()) camera = scene->environment().cameras.empty() ? "free" : scene->environment().cameras[0];
+  if (camera == "head") {
+    view.fixed_camera = scene->head_camera();
+  } else if (camera != "free") {
+    view.fixed_camera = mj_name2id(scene->model(), mjOBJ_CAMERA, camera.c_str());
+    if (view.fixed_camera < 0) {
+      std::string known = "head, free";
+      for (const std::string& c : scene->environment().cameras) known += ", " + c;
+      throw taskmatrix::core::InputError("--camera", "", "unknown camera '" + camera + "' (known: " + known + ")");
+    }
+  }
+  mj::OffscreenRenderer renderer(scene->model(), o.width, o.height);
+  if (o.depth) {
+    const mj::DepthImage depth = renderer.render_depth(worker.model(), worker.data(), view);
+    mj::write_depth_png(o.out, depth);
+  } else {
+    mj::write_png(o.out, renderer.render_rgb(worker.model(), worker.data(), view));
+  }
+  std::printf("%s: %s in %s, seed %llu, %d obstacles, camera %s%s\n", o.out.c_str(), o.robot.c_str(),
+              o.environment.c_str(), static_cast<unsigned long long>(o.seed), o.obstacles, camera.c_str(),
+              o.depth ? " (depth)" : "");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"taskmatrix: robot-independent humanoid task programs on MuJoCo, and a benchmark harness"};
+  app.require_subcommand(1);
+
+  std::string list_what;
+  CLI::App* list = app.add_subcommand("list", "List robots or environments, one name per line");
+  list->add_option("what", list_what, "robots | environments")
+      ->required()
+      ->check(CLI::IsMember({"robots", "environments"}));
+
+  RenderOptions render_options;
+  CLI::App* render = app.add_subcommand("render", "Render a robot in an environment to PNG (OSMesa)");
+  render->add_option("--robot", render_options.robot, "robot name")->required();
+  render->add_option("--env", render_options.environment, "environment name")->required();
+  render->add_option("--seed", render_options.seed, "obstacle layout seed")->capture_default_str();
+  render->add_option("--obstacles", render_options.obstacles, "number of random obstacles")
+      ->check(CLI::Range(0, 200))
+      ->capture_default_str();
+  render->add_option("--camera", render_options.camera,
+                     "an environment camera, 'head' (the robot's head camera) or 'free'");
+  render->add_option("--posture", render_options.posture, "robot posture from its profile")
+      ->capture_default_str();
+  render->add_flag("--depth", render_options.depth, "write metric depth as a grey image (near is bright)");
+  render->add_option("--width", render_options.width)->check(CLI::Range(16, 1280))->capture_default_str();
+  render->add_option("--height", render_options.height)->check(CLI::Range(16, 960))->capture_default_str();
+  render->add_option("--out", render_options.out, "output PNG")->required();
+
+  taskmatrix::harness::ScenesJobOptions scenes_options;
+  std::string scenes_out = scenes_options.out.string();
+  CLI::App* scenes = app.add_subcommand(
+      "scenes", "Load every robot in every environment over layout seeds; render and tabulate");
+  scenes->add_option("--seeds", scenes_options.seeds, "layout seeds 1..N")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  scenes->add_option("--obstacles", scenes_options.obstacles)->check(CLI::Range(0, 200))->capture_default_str();
+  scenes->add_option("--out", scenes_out, "output folder")->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    const ModelCatalog catalog = ModelCatalog::from_environment();
+    if (*list) {
+      for (const std::string& name : list_what == "robots" ? catalog.robots() : catalog.environments()) {
+        std::cout << name << "\n";
+      }
+      return 0;
+    }
+    if (*render) return run_render(catalog, render_options);
+    if (*scenes) {
+      scenes_options.out = scenes_out;
+      return taskmatrix::harness::run_scenes_job(catalog, scenes_options, std::cout) == 0 ? 0 : 1;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "taskmatrix: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

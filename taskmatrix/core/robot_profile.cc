@@ -1,0 +1,99 @@
+#include "taskmatrix/core/robot_profile.h"
+
+#include <cmath>
+#include <set>
+
+#include "taskmatrix/core/input_error.h"
+
+namespace taskmatrix::core {
+
+const ChainSpec* RobotProfile::find_chain(std::string_view chain_name) const {
+  for (const ChainSpec& c : chains) {
+    if (c.name == chain_name) return &c;
+  }
+  return nullptr;
+}
+
+const HandSpec* RobotProfile::find_hand(std::string_view side) const {
+  for (const HandSpec& h : hands) {
+    if (h.side == side) return &h;
+  }
+  return nullptr;
+}
+
+void validate_profile_structure(const RobotProfile& p) {
+  const std::string file = p.profile_file.string();
+  for (std::string_view required : kRequiredChains) {
+    if (!p.find_chain(required)) {
+      throw InputError(file, "chains", "missing required chain '" + std::string(required) + "'");
+    }
+  }
+  std::map<std::string, std::string> owner;  // joint -> chain
+  for (const ChainSpec& c : p.chains) {
+    if (c.joints.empty()) throw InputError(file, "chains." + c.name + ".joints", "is empty");
+    for (const std::string& j : c.joints) {
+      auto [it, inserted] = owner.emplace(j, c.name);
+      if (!inserted) {
+        throw InputError(file, "chains." + c.name + ".joints",
+                         "joint '" + j + "' is already in chain '" + it->second +
+                             "'; chains must be disjoint");
+      }
+    }
+  }
+  if (p.find_chain("base")->joints.size() != 3) {
+    throw InputError(file, "chains.base.joints",
+                     "the base chain must have exactly three joints (x, y, yaw)");
+  }
+  for (std::string_view required : kRequiredPostures) {
+    if (!p.postures.count(std::string(required))) {
+      throw InputError(file, "postures",
+                       "missing required posture '" + std::string(required) + "'");
+    }
+  }
+  for (const auto& [posture_name, posture] : p.postures) {
+    for (const auto& [chain_name, values] : posture) {
+      const std::string key = "postures." + posture_name + "." + chain_name;
+      const ChainSpec* chain = p.find_chain(chain_name);
+      if (!chain) throw InputError(file, key, "names unknown chain '" + chain_name + "'");
+      if (values.size() != chain->joints.size()) {
+        throw InputError(file, key,
+                         "has " + std::to_string(values.size()) + " values but chain '" +
+                             chain_name + "' has " + std::to_string(chain->joints.size()) +
+                             " joints");
+      }
+      for (double v : values) {
+        if (!std::isfinite(v)) throw InputError(file, key, "holds a non-finite value");
+      }
+    }
+  }
+  std::set<std::string> sides;
+  for (const HandSpec& h : p.hands) {
+    const std::string key = "hands." + h.side;
+    if (h.side != "left" && h.side != "right") {
+      throw InputError(file, key, "hand side must be 'left' or 'right'");
+    }
+    if (!sides.insert(h.side).second) throw InputError(file, key, "declared twice");
+    if (h.palm.empty()) throw InputError(file, key + ".palm", "is missing");
+    if (h.fingers.empty()) throw InputError(file, key + ".fingers", "is empty");
+    const ChainSpec* hand_chain = p.find_chain(h.side + "_hand");
+    for (size_t f = 0; f < h.fingers.size(); ++f) {
+      const FingerSpec& finger = h.fingers[f];
+      const std::string fkey = key + ".fingers[" + std::to_string(f) + "]";
+      if (finger.joints.empty() || finger.joints.size() != finger.bodies.size()) {
+        throw InputError(file, fkey, "needs one body per joint (segments from the palm out)");
+      }
+      for (const std::string& j : finger.joints) {
+        auto it = owner.find(j);
+        if (it == owner.end() || it->second != hand_chain->name) {
+          throw InputError(file, fkey + ".joints",
+                           "joint '" + j + "' is not in chain '" + hand_chain->name + "'");
+        }
+      }
+    }
+  }
+  if (!std::isfinite(p.height_m) || p.height_m <= 0.0) {
+    throw InputError(file, "height_m", "must be a positive number of metres");
+  }
+}
+
+}  // namespace taskmatrix::core

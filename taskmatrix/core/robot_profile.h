@@ -1,0 +1,77 @@
+// What a robot profile says about a robot, independent of how the robot is simulated: its
+// kinematic chains, hands, head camera and named postures. Task programs see robots only
+// through this description and the skillset; the MuJoCo backend checks it against the model.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace taskmatrix::core {
+
+struct ChainSpec {
+  std::string name;
+  std::vector<std::string> joints;  // in kinematic order
+  std::string end_effector;         // frame (site or body) at the chain's tip; may be empty
+};
+
+struct FingerSpec {
+  std::vector<std::string> joints;  // from the palm outwards, one per segment
+  std::vector<std::string> bodies;  // the segments, same order
+};
+
+struct HandSpec {
+  std::string side;  // "left" or "right"
+  std::string palm;  // frame (site or body)
+  std::vector<FingerSpec> fingers;
+};
+
+// The head camera. For MJCF robots it is a <camera> in the model (only `name` is set); URDF
+// cannot hold cameras, so a URDF robot's profile declares its pose and the loader adds it.
+struct CameraSpec {
+  std::string name;
+  bool declared_in_profile = false;
+  std::string body;
+  std::array<double, 3> pos{0, 0, 0};
+  std::array<double, 6> xyaxes{0, -1, 0, 0, 0, 1};
+  double fovy_deg = 60.0;
+};
+
+// chain name -> joint values in the chain's joint order. Names only the chains it moves.
+using Posture = std::map<std::string, std::vector<double>>;
+
+enum class ModelFormat { kMjcf, kUrdf };
+
+struct RobotProfile {
+  std::string name;
+  std::filesystem::path profile_file;
+  std::filesystem::path model_file;
+  ModelFormat format = ModelFormat::kMjcf;
+  double height_m = 0.0;
+  std::vector<ChainSpec> chains;
+  CameraSpec head_camera;
+  std::vector<HandSpec> hands;
+  std::map<std::string, Posture> postures;
+  // Position-actuator gains the URDF importer uses (chain name -> kp); MJCF robots carry
+  // their own actuators.
+  std::map<std::string, double> actuator_kp;
+
+  const ChainSpec* find_chain(std::string_view chain_name) const;
+  const HandSpec* find_hand(std::string_view side) const;
+};
+
+inline constexpr std::array<std::string_view, 7> kRequiredChains = {
+    "base", "torso", "head", "left_arm", "right_arm", "left_hand", "right_hand"};
+inline constexpr std::array<std::string_view, 3> kRequiredPostures = {"rest", "hand_open",
+                                                                      "fist"};
+
+// Checks what can be checked without the model: required chains and postures exist, chains
+// are disjoint, the base chain has three joints, postures name known chains with the right
+// number of finite values, hands name their fingers consistently. Throws InputError naming
+// the profile file and key.
+void validate_profile_structure(const RobotProfile& profile);
+
+}  // namespace taskmatrix::core

@@ -1,0 +1,175 @@
+#include "taskmatrix/io/yaml_reader.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "taskmatrix/core/input_error.h"
+
+namespace taskmatrix::io {
+
+using core::InputError;
+
+YamlNode::YamlNode(YAML::Node node, std::shared_ptr<const std::string> file, std::string key)
+    : node_(std::move(node)), file_(std::move(file)), key_(std::move(key)) {}
+
+YamlNode YamlNode::parse(const std::string& text, const std::string& file) {
+  try {
+    YAML::Node root = YAML::Load(text);
+    return YamlNode(root, std::make_shared<const std::string>(file), "");
+  } catch (const YAML::Exception& e) {
+    throw InputError(file, "", "not valid YAML: " + e.msg, e.mark.line >= 0 ? e.mark.line + 1 : 0);
+  }
+}
+
+YamlNode YamlNode::load_file(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string(), "", "cannot open file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  YamlNode root = parse(buffer.str(), file.string());
+  if (!root.is_map()) throw InputError(file.string(), "", "the document must be a YAML mapping");
+  return root;
+}
+
+int YamlNode::line() const {
+  const YAML::Mark mark = node_.Mark();
+  return mark.line >= 0 ? mark.line + 1 : 0;
+}
+
+void YamlNode::fail(const std::string& message) const {
+  throw InputError(*file_, key_, message, line());
+}
+
+YamlNode YamlNode::child(const YAML::Node& node, const std::string& child_key) const {
+  std::string path = key_;
+  if (!child_key.empty() && child_key.front() != '[' && !path.empty()) path += ".";
+  path += child_key;
+  return YamlNode(node, file_, path);
+}
+
+bool YamlNode::has(std::string_view child_key) const {
+  if (!node_.IsMap()) return false;
+  const YAML::Node c = node_[std::string(child_key)];
+  return c.IsDefined() && !c.IsNull();
+}
+
+YamlNode YamlNode::required(std::string_view child_key) const {
+  if (!node_.IsMap()) fail("must be a mapping");
+  const YAML::Node c = node_[std::string(child_key)];
+  if (!c.IsDefined() || c.IsNull()) {
+    throw InputError(*file_, key_.empty() ? std::string(child_key) : key_ + "." + std::string(child_key),
+                     "is required but missing", line());
+  }
+  return child(c, std::string(child_key));
+}
+
+std::optional<YamlNode> YamlNode::optional(std::string_view child_key) const {
+  if (!has(child_key)) return std::nullopt;
+  return required(child_key);
+}
+
+void YamlNode::expect_keys(std::initializer_list<std::string_view> allowed) const {
+  if (!node_.IsMap()) fail("must be a mapping");
+  for (const auto& kv : node_) {
+    const std::string k = kv.first.as<std::string>();
+    bool known = false;
+    for (std::string_view a : allowed) known = known || a == k;
+    if (!known) {
+      std::string list;
+      for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      const int l = kv.first.Mark().line >= 0 ? kv.first.Mark().line + 1 : line();
+      throw InputError(*file_, key_.empty() ? k : key_ + "." + k,
+                       "unknown key (expected one of: " + list + ")", l);
+    }
+  }
+}
+
+std::vector<std::pair<std::string, YamlNode>> YamlNode::entries() const {
+  if (!node_.IsMap()) fail("must be a mapping");
+  std::vector<std::pair<std::string, YamlNode>> out;
+  for (const auto& kv : node_) {
+    const std::string k = kv.first.as<std::string>();
+    out.emplace_back(k, child(kv.second, k));
+  }
+  return out;
+}
+
+std::vector<YamlNode> YamlNode::items() const {
+  if (!node_.IsSequence()) fail("must be a list");
+  std::vector<YamlNode> out;
+  for (size_t i = 0; i < node_.size(); ++i) {
+    out.push_back(child(node_[i], "[" + std::to_string(i) + "]"));
+  }
+  return out;
+}
+
+double YamlNode::as_double() const {
+  if (!node_.IsScalar()) fail("must be a number");
+  double v = 0;
+  try {
+    v = node_.as<double>();
+  } catch (const YAML::Exception&) {
+    fail("must be a number, got '" + node_.Scalar() + "'");
+  }
+  if (!std::isfinite(v)) fail("must be a finite number, got '" + node_.Scalar() + "'");
+  return v;
+}
+
+double YamlNode::as_positive_double() const {
+  const double v = as_double();
+  if (v <= 0) fail("must be positive, got " + node_.Scalar());
+  return v;
+}
+
+int YamlNode::as_int() const {
+  if (!node_.IsScalar()) fail("must be an integer");
+  try {
+    return node_.as<int>();
+  } catch (const YAML::Exception&) {
+    fail("must be an integer, got '" + node_.Scalar() + "'");
+  }
+}
+
+bool YamlNode::as_bool() const {
+  if (!node_.IsScalar()) fail("must be true or false");
+  try {
+    return node_.as<bool>();
+  } catch (const YAML::Exception&) {
+    fail("must be true or false, got '" + node_.Scalar() + "'");
+  }
+}
+
+std::string YamlNode::as_string() const {
+  if (!node_.IsScalar() || node_.Scalar().empty()) fail("must be a non-empty string");
+  return node_.Scalar();
+}
+
+std::vector<double> YamlNode::as_doubles() const {
+  std::vector<double> out;
+  for (const YamlNode& item : items()) out.push_back(item.as_double());
+  return out;
+}
+
+std::vector<std::string> YamlNode::as_strings() const {
+  std::vector<std::string> out;
+  for (const YamlNode& item : items()) out.push_back(item.as_string());
+  return out;
+}
+
+double YamlNode::get_double(std::string_view child_key, double fallback) const {
+  auto c = optional(child_key);
+  return c ? c->as_double() : fallback;
+}
+
+int YamlNode::get_int(std::string_view child_key, int fallback) const {
+  auto c = optional(child_key);
+  return c ? c->as_int() : fallback;
+}
+
+std::string YamlNode::get_string(std::string_view child_key, const std::string& fallback) const {
+  auto c = optional(child_key);
+  return c ? c->as_string() : fallback;
+}
+
+}  // namespace taskmatrix::io

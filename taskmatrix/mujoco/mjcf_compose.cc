@@ -1,0 +1,198 @@
+#include "taskmatrix/mujoco/mjcf_compose.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <string_view>
+
+#include <tinyxml2.h>
+
+#include "taskmatrix/core/input_error.h"
+
+namespace taskmatrix::mujoco {
+
+using core::InputError;
+using tinyxml2::XMLDocument;
+using tinyxml2::XMLElement;
+using tinyxml2::XMLNode;
+
+namespace {
+
+constexpr std::array<std::string_view, 4> kMergedSingletons = {"option", "size", "visual",
+                                                               "statistic"};
+constexpr std::array<std::string_view, 8> kAppendedSections = {
+    "asset", "worldbody", "actuator", "sensor", "contact", "equality", "tendon", "custom"};
+
+bool is_one_of(std::string_view name, auto const& list) {
+  return std::find(list.begin(), list.end(), name) != list.end();
+}
+
+void parse(XMLDocument& doc, const MjcfSource& src) {
+  if (doc.Parse(src.text.c_str(), src.text.size()) != tinyxml2::XML_SUCCESS) {
+    throw InputError(src.file, "", std::string("not well-formed XML: ") + doc.ErrorName(),
+                     doc.ErrorLineNum());
+  }
+  const XMLElement* root = doc.RootElement();
+  if (!root || std::strcmp(root->Name(), "mujoco") != 0) {
+    throw InputError(src.file, root ? root->Name() : "", "the root element must be <mujoco>",
+                     root ? root->GetLineNum() : 0);
+  }
+}
+
+// Copies src's attributes into dst where dst lacks them; recurses into child elements that
+// appear once in both (visual/global, option/flag).
+void merge_attributes(XMLElement* dst, const XMLElement* src) {
+  for (const tinyxml2::XMLAttribute* a = src->FirstAttribute(); a; a = a->Next()) {
+    if (!dst->Attribute(a->Name())) dst->SetAttribute(a->Name(), a->Value());
+  }
+  for (const XMLElement* c = src->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    XMLElement* same = dst->FirstChildElement(c->Name());
+    if (same) {
+      merge_attributes(same, c);
+    } else {
+      dst->InsertEndChild(c->DeepClone(dst->GetDocument()));
+    }
+  }
+}
+
+class Composer {
+ public:
+  Composer() {
+    root_ = out_.NewElement("mujoco");
+    out_.InsertFirstChild(root_);
+  }
+
+  void add(const MjcfSource& src, const XMLElement* root) {
+    for (const XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string_view name = e->Name();
+      if (name == "compiler") {
+        merge_compiler(src, e);
+      } else if (is_one_of(name, kMergedSingletons)) {
+        merge_attributes(section(name), e);
+      } else if (is_one_of(name, kAppendedSections)) {
+        XMLElement* dst = section(name);
+        for (const XMLNode* c = e->FirstChild(); c; c = c->NextSibling()) {
+          if (c->ToElement()) dst->InsertEndChild(c->DeepClone(&out_));
+        }
+      } else if (name == "default") {
+        merge_default(src, e);
+      } else {
+        throw InputError(src.file, std::string(name),
+                         "element <" + std::string(name) +
+                             "> cannot be composed into a scene (see models/README.md)",
+                         e->GetLineNum());
+      }
+    }
+  }
+
+  XMLElement* section(std::string_view name) {
+    XMLElement* e = root_->FirstChildElement(std::string(name).c_str());
+    if (!e) e = root_->InsertEndChild(out_.NewElement(std::string(name).c_str()))->ToElement();
+    return e;
+  }
+
+  XMLDocument& doc() { return out_; }
+  XMLElement* root() { return root_; }
+
+ private:
+  void merge_compiler(const MjcfSource& src, const XMLElement* e) {
+    XMLElement* dst = section("compiler");
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+      const char* existing = dst->Attribute(a->Name());
+      if (existing && std::strcmp(existing, a->Value()) != 0) {
+        throw InputError(src.file, std::string("compiler.") + a->Name(),
+                         "is '" + std::string(a->Value()) + "' but the other file says '" +
+                             existing + "'; robot and environment must agree",
+                         e->GetLineNum());
+      }
+      dst->SetAttribute(a->Name(), a->Value());
+    }
+  }
+
+  void merge_default(const MjcfSource& src, const XMLElement* e) {
+    XMLElement* dst = section("default");
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      if (std::strcmp(c->Name(), "default") != 0 && dst->FirstChildElement(c->Name())) {
+        throw InputError(src.file, std::string("default.") + c->Name(),
+                         "both robot and environment set the top-level default <" +
+                             std::string(c->Name()) + ">; put one of them in a named class",
+                         c->GetLineNum());
+      }
+      dst->InsertEndChild(c->DeepClone(&out_));
+    }
+  }
+
+  XMLDocument out_;
+  XMLElement* root_;
+};
+
+// MJCF's default angle unit is degrees, so a file without <compiler angle> means degree.
+std::string effective_angle(const XMLElement* root) {
+  const XMLElement* compiler = root->FirstChildElement("compiler");
+  const char* angle = compiler ? compiler->Attribute("angle") : nullptr;
+  return angle ? angle : "degree";
+}
+
+}  // namespace
+
+std::string obstacle_body_name(int slot) { return "tm_obstacle_" + std::to_string(slot); }
+
+std::string obstacle_geom_name(int slot, core::ObstacleShape shape) {
+  return obstacle_body_name(slot) + "_" + core::to_string(shape);
+}
+
+std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& environment,
+                               const CompositionOptions& options) {
+  XMLDocument robot_doc, env_doc;
+  parse(robot_doc, robot);
+  parse(env_doc, environment);
+
+  const std::string robot_angle = effective_angle(robot_doc.RootElement());
+  const std::string env_angle = effective_angle(env_doc.RootElement());
+  if (robot_angle != env_angle) {
+    throw InputError(robot.file, "compiler.angle",
+                     "is '" + robot_angle + "' but " + environment.file + " uses '" + env_angle +
+                         "' (unset means MuJoCo's default, degree); they must agree");
+  }
+
+  Composer composer;
+  composer.root()->SetAttribute("model", options.model_name.c_str());
+  composer.add(environment, env_doc.RootElement());
+  composer.add(robot, robot_doc.RootElement());
+
+  // Offscreen buffer large enough for rendering.
+  XMLElement* visual = composer.section("visual");
+  XMLElement* global = visual->FirstChildElement("global");
+  if (!global) global = visual->InsertEndChild(composer.doc().NewElement("global"))->ToElement();
+  global->SetAttribute("offwidth", std::max(global->IntAttribute("offwidth"), options.offscreen_width));
+  global->SetAttribute("offheight",
+                       std::max(global->IntAttribute("offheight"), options.offscreen_height));
+
+  // Reserved obstacle slots: static bodies, one geom per shape, all disabled (no collision,
+  // hidden in geom group 3) until a layout enables one.
+  XMLElement* world = composer.section("worldbody");
+  for (int slot = 0; slot < options.obstacle_slots; ++slot) {
+    XMLElement* body = composer.doc().NewElement("body");
+    body->SetAttribute("name", obstacle_body_name(slot).c_str());
+    body->SetAttribute("pos", "0 0 -5");
+    for (auto shape : {core::ObstacleShape::kBox, core::ObstacleShape::kCylinder,
+                       core::ObstacleShape::kSphere}) {
+      XMLElement* geom = composer.doc().NewElement("geom");
+      geom->SetAttribute("name", obstacle_geom_name(slot, shape).c_str());
+      geom->SetAttribute("type", core::to_string(shape));
+      geom->SetAttribute("size", "0.05 0.05 0.05");
+      geom->SetAttribute("contype", 0);
+      geom->SetAttribute("conaffinity", 0);
+      geom->SetAttribute("group", 3);
+      geom->SetAttribute("rgba", "0.75 0.35 0.2 1");
+      body->InsertEndChild(geom);
+    }
+    world->InsertEndChild(body);
+  }
+
+  tinyxml2::XMLPrinter printer;
+  composer.doc().Print(&printer);
+  return printer.CStr();
+}
+
+}  // namespace taskmatrix::mujoco

@@ -1,0 +1,40 @@
+// Composes one robot MJCF and one environment MJCF into a single scene MJCF, plus the
+// reserved obstacle slots whose pose and size are written per layout into a model copy
+// (never recompiled). Section by section:
+//   compiler   attributes merged; a conflicting value (angle included) is an error
+//   option, size, visual, statistic
+//              attributes merged recursively, the environment's value wins a conflict
+//   default    nested classes appended; both files setting the same top-level default
+//              element (<default><geom .../>) is an error (use a named class)
+//   asset, worldbody, actuator, sensor, contact, equality, tendon, custom
+//              children appended, robot first
+//   include, keyframe
+//              rejected: paths and qpos sizes do not survive composition
+#pragma once
+
+#include <string>
+
+#include "taskmatrix/core/obstacle_layout.h"
+
+namespace taskmatrix::mujoco {
+
+struct MjcfSource {
+  std::string text;
+  std::string file;  // names the source in errors
+};
+
+struct CompositionOptions {
+  std::string model_name = "scene";
+  int obstacle_slots = 0;
+  int offscreen_width = 1280;  // at least this offscreen buffer for rendering
+  int offscreen_height = 960;
+};
+
+// Throws core::InputError naming the file (and element) at fault.
+std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& environment,
+                               const CompositionOptions& options);
+
+std::string obstacle_body_name(int slot);
+std::string obstacle_geom_name(int slot, core::ObstacleShape shape);
+
+}  // namespace taskmatrix::mujoco

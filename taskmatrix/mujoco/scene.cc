@@ -1,0 +1,304 @@
+#include "taskmatrix/mujoco/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "taskmatrix/core/input_error.h"
+#include "taskmatrix/io/model_files.h"
+#include "taskmatrix/mujoco/mjcf_compose.h"
+#include "taskmatrix/mujoco/urdf_import.h"
+
+namespace taskmatrix::mujoco {
+
+using core::InputError;
+
+namespace {
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string(), "", "cannot open file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::filesystem::path required_file(const std::filesystem::path& dir, const char* name) {
+  const std::filesystem::path p = dir / name;
+  if (!std::filesystem::is_directory(dir)) throw InputError(dir.string(), "", "no such folder");
+  if (!std::filesystem::is_regular_file(p)) throw InputError(p.string(), "", "missing");
+  return p;
+}
+
+bool near_axis(const mjtNum* axis, double x, double y, double z) {
+  return std::abs(axis[0] - x) < 1e-6 && std::abs(axis[1] - y) < 1e-6 && std::abs(axis[2] - z) < 1e-6;
+}
+
+}  // namespace
+
+std::shared_ptr<const Scene> Scene::load(const std::filesystem::path& robot_dir,
+                                         const std::filesystem::path& environment_dir) {
+  std::shared_ptr<Scene> scene(new Scene());
+  scene->robot_ = io::load_robot_profile(required_file(robot_dir, "profile.yaml"));
+  scene->environment_ = io::load_environment_spec(required_file(environment_dir, "environment.yaml"));
+  const core::RobotProfile& robot = scene->robot_;
+  const core::EnvironmentSpec& env = scene->environment_;
+
+  // Each file compiles on its own first, so MuJoCo's errors name the right file and line.
+  MjcfSource robot_src{"", robot.model_file.string()};
+  if (robot.format == core::ModelFormat::kUrdf) {
+    robot_src.text = import_urdf_as_mjcf(robot);
+  } else {
+    compile_file(robot.model_file.string());
+    robot_src.text = read_text(robot.model_file);
+  }
+  compile_file(env.model_file.string());
+  const MjcfSource env_src{read_text(env.model_file), env.model_file.string()};
+
+  CompositionOptions options;
+  options.model_name = robot.name + "@" + env.name;
+  options.obstacle_slots = env.obstacle_slots;
+  scene->composed_mjcf_ = compose_scene_mjcf(robot_src, env_src, options);
+  scene->model_ = compile_mjcf_text(scene->composed_mjcf_,
+                                    robot.model_file.string() + " in " + env.model_file.string());
+  scene->index_and_validate();
+  return scene;
+}
+
+void Scene::index_and_validate() {
+  const mjModel* m = model_.get();
+  const std::string pfile = robot_.profile_file.string();
+  const std::string efile = environment_.spec_file.string();
+  const std::string mfile = robot_.model_file.string();
+
+  // Chains: hinge or slide joints, limited with finite ranges, all on one robot tree.
+  for (const core::ChainSpec& spec : robot_.chains) {
+    ChainIndex chain;
+    chain.name = spec.name;
+    const std::string key = "chains." + spec.name + ".joints";
+    for (const std::string& name : spec.joints) {
+      const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
+      if (j < 0) throw InputError(pfile, key, "joint '" + name + "' is not in " + mfile);
+      if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) {
+        throw InputError(pfile, key, "joint '" + name + "' must be a hinge or slide joint");
+      }
+      const double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
+      if (!m->jnt_limited[j] || !std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi)) {
+        throw InputError(pfile, key, "joint '" + name + "' needs finite limits with lower < upper");
+      }
+      chain.joints.push_back(j);
+      chain.qpos_adr.push_back(m->jnt_qposadr[j]);
+      chain.lower.push_back(lo);
+      chain.upper.push_back(hi);
+    }
+    chains_.push_back(chain);
+  }
+
+  // The base: slide x, slide y, hinge z on the robot's root tree.
+  const ChainIndex& base = chain("base");
+  const int bx = base.joints[0], by = base.joints[1], byaw = base.joints[2];
+  if (m->jnt_type[bx] != mjJNT_SLIDE || !near_axis(m->jnt_axis + 3 * bx, 1, 0, 0) ||
+      m->jnt_type[by] != mjJNT_SLIDE || !near_axis(m->jnt_axis + 3 * by, 0, 1, 0) ||
+      m->jnt_type[byaw] != mjJNT_HINGE || !near_axis(m->jnt_axis + 3 * byaw, 0, 0, 1)) {
+    throw InputError(pfile, "chains.base.joints",
+                     "must be a slide joint along x, a slide joint along y and a hinge about z");
+  }
+  robot_root_ = m->body_rootid[m->jnt_bodyid[bx]];
+
+  // Every robot joint belongs to a chain, and has a position actuator.
+  for (int j = 0; j < m->njnt; ++j) {
+    if (!is_robot_body(m->jnt_bodyid[j])) continue;
+    const char* name = mj_id2name(m, mjOBJ_JOINT, j);
+    bool in_chain = false;
+    for (const ChainIndex& c : chains_) in_chain = in_chain || std::count(c.joints.begin(), c.joints.end(), j);
+    if (!in_chain) {
+      throw InputError(pfile, "chains",
+                       "robot joint '" + std::string(name ? name : "?") + "' is in no chain");
+    }
+    bool actuated = false;
+    for (int a = 0; a < m->nu; ++a) {
+      actuated = actuated || (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == j &&
+                              m->actuator_biastype[a] == mjBIAS_AFFINE);
+    }
+    if (!actuated) {
+      throw InputError(mfile, "actuator",
+                       "joint '" + std::string(name ? name : "?") + "' has no <position> actuator");
+    }
+  }
+
+  for (const core::ChainSpec& spec : robot_.chains) {
+    if (spec.end_effector.empty()) continue;
+    try {
+      frame(spec.end_effector);
+    } catch (const std::out_of_range&) {
+      throw InputError(pfile, "chains." + spec.name + ".end_effector",
+                       "frame '" + spec.end_effector + "' is neither a site nor a body in " + mfile);
+    }
+  }
+  for (const core::HandSpec& hand : robot_.hands) {
+    try {
+      frame(hand.palm);
+    } catch (const std::out_of_range&) {
+      throw InputError(pfile, "hands." + hand.side + ".palm",
+                       "frame '" + hand.palm + "' is neither a site nor a body in " + mfile);
+    }
+    for (const core::FingerSpec& finger : hand.fingers) {
+      for (const std::string& body : finger.bodies) {
+        if (mj_name2id(m, mjOBJ_BODY, body.c_str()) < 0) {
+          throw InputError(pfile, "hands." + hand.side + ".fingers",
+                           "body '" + body + "' is not in " + mfile);
+        }
+      }
+    }
+  }
+  head_camera_ = mj_name2id(m, mjOBJ_CAMERA, robot_.head_camera.name.c_str());
+  if (head_camera_ < 0 || !is_robot_body(m->cam_bodyid[head_camera_])) {
+    throw InputError(pfile, "head_camera",
+                     "camera '" + robot_.head_camera.name + "' is not a camera of the robot");
+  }
+
+  // Postures within limits.
+  for (const auto& [posture_name, posture] : robot_.postures) {
+    for (const auto& [chain_name, values] : posture) {
+      const ChainIndex& c = chain(chain_name);
+      for (size_t i = 0; i < values.size(); ++i) {
+        if (values[i] < c.lower[i] - 1e-9 || values[i] > c.upper[i] + 1e-9) {
+          throw InputError(pfile, "postures." + posture_name + "." + chain_name,
+                           "value " + std::to_string(values[i]) + " for joint '" +
+                               mj_id2name(m, mjOBJ_JOINT, c.joints[i]) + "' is outside [" +
+                               std::to_string(c.lower[i]) + ", " + std::to_string(c.upper[i]) + "]");
+        }
+      }
+    }
+  }
+
+  // Environment names.
+  DataPtr d = make_data(m);
+  mj_forward(m, d.get());
+  auto footprint_of_body = [&](int body) {
+    core::Rect2 r{1e9, -1e9, 1e9, -1e9};
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->geom_bodyid[g] != body) continue;
+      const double x = d->geom_xpos[3 * g], y = d->geom_xpos[3 * g + 1], rb = m->geom_rbound[g];
+      r = {std::min(r.x_min, x - rb), std::max(r.x_max, x + rb), std::min(r.y_min, y - rb),
+           std::max(r.y_max, y + rb)};
+    }
+    return r;
+  };
+  for (const auto& [obj_name, obj] : environment_.objects) {
+    for (const std::string& body : obj.bodies) {
+      const int b = mj_name2id(m, mjOBJ_BODY, body.c_str());
+      if (b < 0) {
+        throw InputError(efile, "objects." + obj_name,
+                         "body '" + body + "' is not in " + environment_.model_file.string());
+      }
+      if (obj.kind != core::ObjectKind::kSurface) object_footprints_.push_back(footprint_of_body(b));
+    }
+    for (const std::string* site : {&obj.tip_site, &obj.grip_site}) {
+      if (!site->empty() && mj_name2id(m, mjOBJ_SITE, site->c_str()) < 0) {
+        throw InputError(efile, "objects." + obj_name,
+                         "site '" + *site + "' is not in " + environment_.model_file.string());
+      }
+    }
+  }
+  if (!environment_.visitor.body.empty()) {
+    const int b = mj_name2id(m, mjOBJ_BODY, environment_.visitor.body.c_str());
+    if (b < 0) throw InputError(efile, "visitor.body", "body '" + environment_.visitor.body + "' is missing");
+    object_footprints_.push_back(footprint_of_body(b));
+  }
+  for (const std::string& cam : environment_.cameras) {
+    if (mj_name2id(m, mjOBJ_CAMERA, cam.c_str()) < 0) {
+      throw InputError(efile, "cameras", "camera '" + cam + "' is not in " + environment_.model_file.string());
+    }
+  }
+  for (int slot = 0; slot < environment_.obstacle_slots; ++slot) {
+    ObstacleSlot s;
+    s.body = mj_name2id(m, mjOBJ_BODY, obstacle_body_name(slot).c_str());
+    for (int k = 0; k < 3; ++k) {
+      s.geoms[k] = mj_name2id(m, mjOBJ_GEOM, obstacle_geom_name(slot, core::ObstacleShape(k)).c_str());
+    }
+    obstacle_slots_.push_back(s);
+  }
+
+  start_qpos_.assign(m->qpos0, m->qpos0 + m->nq);
+  start_qpos_[base.qpos_adr[0]] = environment_.robot_start.x;
+  start_qpos_[base.qpos_adr[1]] = environment_.robot_start.y;
+  start_qpos_[base.qpos_adr[2]] = environment_.robot_start.yaw;
+  apply_posture("rest", start_qpos_.data());
+}
+
+const ChainIndex& Scene::chain(std::string_view name) const {
+  for (const ChainIndex& c : chains_) {
+    if (c.name == name) return c;
+  }
+  throw std::out_of_range("no chain '" + std::string(name) + "' in robot " + robot_.name);
+}
+
+FrameRef Scene::frame(std::string_view name) const {
+  const std::string n(name);
+  if (int s = mj_name2id(model_.get(), mjOBJ_SITE, n.c_str()); s >= 0) return {FrameRef::Kind::kSite, s};
+  if (int b = mj_name2id(model_.get(), mjOBJ_BODY, n.c_str()); b >= 0) return {FrameRef::Kind::kBody, b};
+  throw std::out_of_range("no frame '" + n + "' in robot " + robot_.name);
+}
+
+bool Scene::is_robot_body(int body) const {
+  return body > 0 && model_->body_rootid[body] == robot_root_;
+}
+
+bool Scene::is_robot_geom(int geom) const { return is_robot_body(model_->geom_bodyid[geom]); }
+
+void Scene::apply_posture(std::string_view posture, double* qpos) const {
+  const auto it = robot_.postures.find(std::string(posture));
+  if (it == robot_.postures.end()) {
+    throw std::out_of_range("robot " + robot_.name + " has no posture '" + std::string(posture) + "'");
+  }
+  for (const auto& [chain_name, values] : it->second) {
+    const ChainIndex& c = chain(chain_name);
+    for (size_t i = 0; i < values.size(); ++i) qpos[c.qpos_adr[i]] = values[i];
+  }
+}
+
+core::LayoutRequest Scene::layout_request(int count) const {
+  core::LayoutRequest req;
+  req.count = count;
+  req.regions = environment_.obstacle_regions;
+  req.protected_disks.push_back({environment_.robot_start.x, environment_.robot_start.y,
+                                 environment_.start_clearance_m});
+  req.protected_rects = environment_.keep_out;
+  req.protected_rects.insert(req.protected_rects.end(), object_footprints_.begin(),
+                             object_footprints_.end());
+  return req;
+}
+
+// ---------------------------------------------------------------------------------------
+
+WorkerScene::WorkerScene(std::shared_ptr<const Scene> scene)
+    : scene_(std::move(scene)), model_(copy_model(scene_->model())), data_(make_data(model_.get())) {
+  reset_to_start();
+}
+
+void WorkerScene::reset_to_start() {
+  mj_resetData(model_.get(), data_.get());
+  std::copy(scene_->start_qpos().begin(), scene_->start_qpos().end(), data_->qpos);
+  mj_forward(model_.get(), data_.get());
+}
+
+std::vector<RobotContact> WorkerScene::robot_contacts() const {
+  std::vector<RobotContact> out;
+  const mjModel* m = model_.get();
+  auto name = [&](mjtObj type, int id) {
+    const char* n = mj_id2name(m, type, id);
+    return n ? std::string(n) : "#" + std::to_string(id);
+  };
+  for (int i = 0; i < data_->ncon; ++i) {
+    const mjContact& c = data_->contact[i];
+    if (!scene_->is_robot_geom(c.geom1) && !scene_->is_robot_geom(c.geom2)) continue;
+    out.push_back({name(mjOBJ_GEOM, c.geom1), name(mjOBJ_BODY, m->geom_bodyid[c.geom1]),
+                   name(mjOBJ_GEOM, c.geom2), name(mjOBJ_BODY, m->geom_bodyid[c.geom2]), c.dist});
+  }
+  return out;
+}
+
+}  // namespace taskmatrix::mujoco

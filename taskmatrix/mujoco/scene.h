@@ -1,0 +1,117 @@
+// A Scene is one robot composed into one environment and compiled once, with every name the
+// profile and environment spec use resolved to MuJoCo ids and checked. It is immutable and
+// shared read-only by all workers. A WorkerScene is one worker's mutable state: its own copy
+// of the model (so obstacle slots can be written without recompiling) and its mjData.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "taskmatrix/core/environment_spec.h"
+#include "taskmatrix/core/obstacle_layout.h"
+#include "taskmatrix/core/robot_profile.h"
+#include "taskmatrix/mujoco/mujoco_handles.h"
+
+namespace taskmatrix::mujoco {
+
+struct ChainIndex {
+  std::string name;
+  std::vector<int> joints;    // MuJoCo joint ids, chain order
+  std::vector<int> qpos_adr;  // one per joint (hinge and slide joints only)
+  std::vector<double> lower, upper;
+};
+
+// A frame named in a profile: a site if one has the name, else a body.
+struct FrameRef {
+  enum class Kind { kSite, kBody } kind = Kind::kSite;
+  int id = -1;
+};
+
+struct ObstacleSlot {
+  int body = -1;
+  std::array<int, 3> geoms{-1, -1, -1};  // indexed by core::ObstacleShape
+};
+
+struct RobotContact {
+  std::string geom1, body1, geom2, body2;
+  double distance = 0;  // negative: penetration
+};
+
+class Scene {
+ public:
+  // Loads models/robots/<robot>/profile.yaml and models/environments/<env>/environment.yaml,
+  // composes and compiles them and checks every name. Throws core::InputError naming the
+  // file and key at fault.
+  static std::shared_ptr<const Scene> load(const std::filesystem::path& robot_dir,
+                                           const std::filesystem::path& environment_dir);
+
+  const mjModel* model() const { return model_.get(); }
+  const core::RobotProfile& robot() const { return robot_; }
+  const core::EnvironmentSpec& environment() const { return environment_; }
+  const std::string& composed_mjcf() const { return composed_mjcf_; }
+
+  const std::vector<ChainIndex>& chains() const { return chains_; }
+  const ChainIndex& chain(std::string_view name) const;  // throws std::out_of_range
+  FrameRef frame(std::string_view name) const;            // throws std::out_of_range
+  int head_camera() const { return head_camera_; }
+  int robot_root_body() const { return robot_root_; }
+  bool is_robot_body(int body) const;
+  bool is_robot_geom(int geom) const;
+  const std::vector<ObstacleSlot>& obstacle_slots() const { return obstacle_slots_; }
+
+  // Full qpos with the robot at the environment's start pose in posture `rest`; everything
+  // else at the model's qpos0.
+  const std::vector<double>& start_qpos() const { return start_qpos_; }
+  // Writes a profile posture into qpos. Throws std::out_of_range for an unknown posture.
+  void apply_posture(std::string_view posture, double* qpos) const;
+
+  // Obstacle request for `count` obstacles: the environment's regions, the robot's start
+  // disk, keep-out rectangles and the footprints of task objects and the visitor protected.
+  core::LayoutRequest layout_request(int count) const;
+
+ private:
+  Scene() = default;
+  void index_and_validate();
+
+  ModelPtr model_;
+  core::RobotProfile robot_;
+  core::EnvironmentSpec environment_;
+  std::string composed_mjcf_;
+  std::vector<ChainIndex> chains_;
+  int head_camera_ = -1;
+  int robot_root_ = -1;
+  std::vector<ObstacleSlot> obstacle_slots_;
+  std::vector<double> start_qpos_;
+  std::vector<core::Rect2> object_footprints_;
+};
+
+class WorkerScene {
+ public:
+  explicit WorkerScene(std::shared_ptr<const Scene> scene);
+
+  const Scene& scene() const { return *scene_; }
+  mjModel* model() { return model_.get(); }
+  mjData* data() { return data_.get(); }
+  const mjModel* model() const { return model_.get(); }
+  const mjData* data() const { return data_.get(); }
+
+  // Writes the layout into the obstacle slots of this worker's model copy: the slot's geom
+  // of the obstacle's shape is given size, pose, collision and visibility; every other slot
+  // geom is disabled. Throws core::LayoutError if there are more obstacles than slots.
+  void apply_layout(const core::ObstacleLayout& layout);
+  // qpos = scene().start_qpos(), zero velocities, then mj_forward.
+  void reset_to_start();
+  // Contacts after the last mj_forward/mj_collision in which a robot geom takes part.
+  std::vector<RobotContact> robot_contacts() const;
+
+ private:
+  std::shared_ptr<const Scene> scene_;
+  ModelPtr model_;
+  DataPtr data_;
+};
+
+}  // namespace taskmatrix::mujoco

@@ -1,0 +1,88 @@
+#include "taskmatrix/core/robot_profile.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "taskmatrix/core/input_error.h"
+
+namespace taskmatrix::core {
+namespace {
+
+RobotProfile valid_profile() {
+  RobotProfile p;
+  p.name = "toy";
+  p.profile_file = "models/robots/toy/profile.yaml";
+  p.height_m = 1.0;
+  p.chains = {{"base", {"x", "y", "yaw"}, ""},  {"torso", {"t"}, ""},
+              {"head", {"h"}, ""},              {"left_arm", {"la1", "la2"}, "lp"},
+              {"right_arm", {"ra1", "ra2"}, "rp"}, {"left_hand", {"lf1", "lf2"}, ""},
+              {"right_hand", {"rf1", "rf2"}, ""}};
+  p.hands = {{"left", "lp", {{{"lf1", "lf2"}, {"lf1b", "lf2b"}}}},
+             {"right", "rp", {{{"rf1", "rf2"}, {"rf1b", "rf2b"}}}}};
+  p.postures = {{"rest", {{"left_arm", {0, 0}}}}, {"hand_open", {{"left_hand", {0, 0}}}},
+                {"fist", {{"left_hand", {1, 1}}}}};
+  return p;
+}
+
+std::string error_of(const RobotProfile& p) {
+  try {
+    validate_profile_structure(p);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RobotProfile, AValidProfilePasses) { EXPECT_EQ(error_of(valid_profile()), ""); }
+
+TEST(RobotProfile, ChainsMustBeDisjoint) {
+  RobotProfile p = valid_profile();
+  p.chains[1].joints.push_back("la1");
+  const std::string e = error_of(p);
+  EXPECT_NE(e.find("models/robots/toy/profile.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("chains.left_arm.joints"), std::string::npos) << e;
+  EXPECT_NE(e.find("already in chain 'torso'"), std::string::npos) << e;
+}
+
+TEST(RobotProfile, RequiredChainsAndPosturesMustExist) {
+  RobotProfile p = valid_profile();
+  p.chains.erase(p.chains.begin() + 2);
+  EXPECT_NE(error_of(p).find("missing required chain 'head'"), std::string::npos);
+  p = valid_profile();
+  p.postures.erase("fist");
+  EXPECT_NE(error_of(p).find("missing required posture 'fist'"), std::string::npos);
+}
+
+TEST(RobotProfile, PosturesNeedOneFiniteValuePerJoint) {
+  RobotProfile p = valid_profile();
+  p.postures["rest"]["left_arm"] = {0.1};
+  EXPECT_NE(error_of(p).find("has 1 values but chain 'left_arm' has 2 joints"), std::string::npos);
+  p = valid_profile();
+  p.postures["rest"]["left_arm"] = {0.1, std::nan("")};
+  EXPECT_NE(error_of(p).find("postures.rest.left_arm: holds a non-finite value"), std::string::npos);
+  p = valid_profile();
+  p.postures["rest"]["tail"] = {0.1};
+  EXPECT_NE(error_of(p).find("unknown chain 'tail'"), std::string::npos);
+}
+
+TEST(RobotProfile, FingersMustBelongToTheirHandChain) {
+  RobotProfile p = valid_profile();
+  p.hands[0].fingers[0].joints = {"rf1", "lf2"};
+  EXPECT_NE(error_of(p).find("joint 'rf1' is not in chain 'left_hand'"), std::string::npos);
+  p = valid_profile();
+  p.hands[0].fingers[0].bodies = {"only_one"};
+  EXPECT_NE(error_of(p).find("needs one body per joint"), std::string::npos);
+}
+
+TEST(RobotProfile, BaseHasThreeJointsAndHeightIsPositive) {
+  RobotProfile p = valid_profile();
+  p.chains[0].joints = {"x", "y"};
+  EXPECT_NE(error_of(p).find("exactly three joints"), std::string::npos);
+  p = valid_profile();
+  p.height_m = -1;
+  EXPECT_NE(error_of(p).find("height_m"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace taskmatrix::core

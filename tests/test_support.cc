@@ -1,0 +1,96 @@
+#include "tests/test_support.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+namespace taskmatrix::test {
+
+const harness::ModelCatalog& catalog() {
+  static const harness::ModelCatalog c(TASKMATRIX_TEST_ROOT);
+  return c;
+}
+
+std::shared_ptr<const mujoco::Scene> scene(const std::string& robot, const std::string& environment) {
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const mujoco::Scene>> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& s = cache[robot + "@" + environment];
+  if (!s) s = mujoco::Scene::load(catalog().robot_dir(robot), catalog().environment_dir(environment));
+  return s;
+}
+
+std::vector<RobotEnv> all_robot_environment_pairs() {
+  std::vector<RobotEnv> out;
+  for (const auto& r : catalog().robots()) {
+    for (const auto& e : catalog().environments()) out.push_back({r, e});
+  }
+  return out;
+}
+
+std::string pair_name(const RobotEnv& p) { return p.robot + "_in_" + p.environment; }
+
+namespace {
+std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+CommandResult run_cli(const std::string& args, const std::filesystem::path& root) {
+  char out_tmpl[] = "/tmp/taskmatrix_test_out_XXXXXX";
+  char err_tmpl[] = "/tmp/taskmatrix_test_err_XXXXXX";
+  close(mkstemp(out_tmpl));
+  close(mkstemp(err_tmpl));
+  const std::string command = "TASKMATRIX_ROOT='" + root.string() + "' timeout 120 " + TASKMATRIX_CLI +
+                              " " + args + " >" + out_tmpl + " 2>" + err_tmpl;
+  const int status = std::system(command.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = slurp(out_tmpl);
+  r.err = slurp(err_tmpl);
+  std::filesystem::remove(out_tmpl);
+  std::filesystem::remove(err_tmpl);
+  return r;
+}
+
+ScratchRoot::ScratchRoot() {
+  char tmpl[] = "/tmp/taskmatrix_root_XXXXXX";
+  root_ = mkdtemp(tmpl);
+  std::filesystem::copy(std::filesystem::path(TASKMATRIX_TEST_ROOT) / "models", root_ / "models",
+                        std::filesystem::copy_options::recursive);
+}
+
+ScratchRoot::~ScratchRoot() {
+  std::error_code ec;
+  std::filesystem::remove_all(root_, ec);
+}
+
+std::string ScratchRoot::read(const std::string& relative) const { return slurp(root_ / relative); }
+
+void ScratchRoot::write(const std::string& relative, const std::string& text) const {
+  std::ofstream(root_ / relative) << text;
+}
+
+void ScratchRoot::replace(const std::string& relative, const std::string& from,
+                          const std::string& to) const {
+  std::string text = read(relative);
+  const size_t at = text.find(from);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "'" << from << "' not found in " << relative;
+    return;
+  }
+  text.replace(at, from.size(), to);
+  write(relative, text);
+}
+
+}  // namespace taskmatrix::test

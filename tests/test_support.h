@@ -1,0 +1,48 @@
+// Shared helpers for the test suite: the project's models, cached compiled scenes, and a
+// way to run the CLI as a user would.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/model_catalog.h"
+#include "taskmatrix/mujoco/scene.h"
+
+namespace taskmatrix::test {
+
+const harness::ModelCatalog& catalog();
+// Compiled once per process and shared, as workers share them.
+std::shared_ptr<const mujoco::Scene> scene(const std::string& robot, const std::string& environment);
+
+struct RobotEnv {
+  std::string robot, environment;
+};
+std::vector<RobotEnv> all_robot_environment_pairs();
+std::string pair_name(const RobotEnv& p);  // for parameterised test names
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+// Runs the taskmatrix CLI with `args` and TASKMATRIX_ROOT=`root` (with a time limit).
+CommandResult run_cli(const std::string& args, const std::filesystem::path& root);
+
+// A throw-away copy of models/ under a fresh temporary root, for corrupting files.
+class ScratchRoot {
+ public:
+  ScratchRoot();
+  ~ScratchRoot();
+  const std::filesystem::path& path() const { return root_; }
+  std::filesystem::path file(const std::string& relative) const { return root_ / relative; }
+  std::string read(const std::string& relative) const;
+  void write(const std::string& relative, const std::string& text) const;
+  // Replaces the first occurrence of `from` (which must exist) in a file.
+  void replace(const std::string& relative, const std::string& from, const std::string& to) const;
+
+ private:
+  std::filesystem::path root_;
+};
+
+}  // namespace taskmatrix::test
