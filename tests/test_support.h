@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@ struct RobotEnv {
   std::string robot, environment;
 };
 std::vector<RobotEnv> all_robot_environment_pairs();
+inline void PrintTo(const RobotEnv& p, std::ostream* os) { *os << p.robot << " in " << p.environment; }
 std::string pair_name(const RobotEnv& p);  // for parameterised test names
 
 struct CommandResult {

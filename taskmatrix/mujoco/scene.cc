@@ -261,6 +261,11 @@ void Scene::apply_posture(std::string_view posture, double* qpos) const {
 }
 
 core::LayoutRequest Scene::layout_request(int count) const {
+  if (count > environment_.obstacle_slots) {
+    throw InputError(environment_.spec_file.string(), "obstacle_slots",
+                     std::to_string(count) + " obstacles requested but the environment reserves " +
+                         std::to_string(environment_.obstacle_slots) + " slots");
+  }
   core::LayoutRequest req;
   req.count = count;
   req.regions = environment_.obstacle_regions;

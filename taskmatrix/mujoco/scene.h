@@ -71,6 +71,7 @@ class Scene {
 
   // Obstacle request for `count` obstacles: the environment's regions, the robot's start
   // disk, keep-out rectangles and the footprints of task objects and the visitor protected.
+  // Throws core::InputError when `count` exceeds the environment's obstacle_slots.
   core::LayoutRequest layout_request(int count) const;
 
  private:

@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/obstacle_layout.h"
 #include "taskmatrix/mujoco/mjcf_compose.h"
 #include "taskmatrix/mujoco/scene.h"
@@ -74,8 +75,22 @@ TEST_P(LayoutsInEveryScene, WritesOnlyTheWorkersCopyAndIsRepeatable) {
   EXPECT_EQ(enabled, 6);
 }
 
+TEST_P(LayoutsInEveryScene, ObstaclesReachEveryRegionTheTableTopIncluded) {
+  auto scene = test::scene(GetParam().robot, GetParam().environment);
+  const auto& regions = scene->environment().obstacle_regions;
+  ASSERT_GE(regions.size(), 2u);
+  std::vector<int> per_region(regions.size(), 0);
+  for (std::uint64_t seed = 0; seed < 50; ++seed) {
+    for (const auto& o : core::generate_layout(scene->layout_request(10), seed).obstacles) ++per_region[o.region];
+  }
+  for (size_t r = 0; r < regions.size(); ++r) {
+    EXPECT_GE(per_region[r], 5) << "region " << regions[r].name << " never gets obstacles";
+  }
+}
+
 TEST_P(LayoutsInEveryScene, MoreObstaclesThanSlotsIsAnError) {
   auto scene = test::scene(GetParam().robot, GetParam().environment);
+  EXPECT_THROW(scene->layout_request(scene->environment().obstacle_slots + 1), core::InputError);
   WorkerScene worker(scene);
   core::ObstacleLayout layout;
   layout.obstacles.resize(scene->obstacle_slots().size() + 1);
