@@ -22,7 +22,8 @@ const harness::ModelCatalog& catalog() {
 }
 
 std::shared_ptr<const mujoco::Scene> tall_in_kitchen() {
-  static auto scene = mujoco::Scene::load(catalog().robot_dir("tallbot"), catalog().environment_dir("kitchen"));
+  static auto scene =
+      mujoco::Scene::load(catalog().robot_dir("tallbot"), catalog().environment_dir("kitchen"));
   return scene;
 }
 
@@ -37,7 +38,8 @@ BENCHMARK(BM_LoadXML_Raw)->Unit(benchmark::kMillisecond);
 
 void BM_SceneLoad(benchmark::State& state) {
   for (auto _ : state) {
-    auto scene = mujoco::Scene::load(catalog().robot_dir("tallbot"), catalog().environment_dir("kitchen"));
+    auto scene =
+        mujoco::Scene::load(catalog().robot_dir("tallbot"), catalog().environment_dir("kitchen"));
     benchmark::DoNotOptimize(scene.get());
   }
 }

@@ -30,7 +30,8 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   namespace mj = taskmatrix::mujoco;
   auto scene = mj::Scene::load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
   mj::WorkerScene worker(scene);
-  worker.apply_layout(taskmatrix::core::generate_layout(scene->layout_request(o.obstacles), o.seed));
+  worker.apply_layout(
+      taskmatrix::core::generate_layout(scene->layout_request(o.obstacles), o.seed));
   std::vector<double> qpos = scene->start_qpos();
   try {
     scene->apply_posture(o.posture, qpos.data());
@@ -42,7 +43,8 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
 
   mj::CameraView view;
   std::string camera = o.camera;
-  if (camera.empty()) camera = scene->environment().cameras.empty() ? "free" : scene->environment().cameras[0];
+  if (camera.empty())
+    camera = scene->environment().cameras.empty() ? "free" : scene->environment().cameras[0];
   if (camera == "head") {
     view.fixed_camera = scene->head_camera();
   } else if (camera != "free") {
@@ -50,7 +52,8 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
     if (view.fixed_camera < 0) {
       std::string known = "head, free";
       for (const std::string& c : scene->environment().cameras) known += ", " + c;
-      throw taskmatrix::core::InputError("--camera", "", "unknown camera '" + camera + "' (known: " + known + ")");
+      throw taskmatrix::core::InputError("--camera", "",
+                                         "unknown camera '" + camera + "' (known: " + known + ")");
     }
   }
   mj::OffscreenRenderer renderer(scene->model(), o.width, o.height);
@@ -60,16 +63,17 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   } else {
     mj::write_png(o.out, renderer.render_rgb(worker.model(), worker.data(), view));
   }
-  std::printf("%s: %s in %s, seed %llu, %d obstacles, camera %s%s\n", o.out.c_str(), o.robot.c_str(),
-              o.environment.c_str(), static_cast<unsigned long long>(o.seed), o.obstacles, camera.c_str(),
-              o.depth ? " (depth)" : "");
+  std::printf("%s: %s in %s, seed %llu, %d obstacles, camera %s%s\n", o.out.c_str(),
+              o.robot.c_str(), o.environment.c_str(), static_cast<unsigned long long>(o.seed),
+              o.obstacles, camera.c_str(), o.depth ? " (depth)" : "");
   return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"taskmatrix: robot-independent humanoid task programs on MuJoCo, and a benchmark harness"};
+  CLI::App app{
+      "taskmatrix: robot-independent humanoid task programs on MuJoCo, and a benchmark harness"};
   app.require_subcommand(1);
 
   std::string list_what;
@@ -79,7 +83,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"robots", "environments"}));
 
   RenderOptions render_options;
-  CLI::App* render = app.add_subcommand("render", "Render a robot in an environment to PNG (OSMesa)");
+  CLI::App* render =
+      app.add_subcommand("render", "Render a robot in an environment to PNG (OSMesa)");
   render->add_option("--robot", render_options.robot, "robot name")->required();
   render->add_option("--env", render_options.environment, "environment name")->required();
   render->add_option("--seed", render_options.seed, "obstacle layout seed")->capture_default_str();
@@ -90,9 +95,14 @@ int main(int argc, char** argv) {
                      "an environment camera, 'head' (the robot's head camera) or 'free'");
   render->add_option("--posture", render_options.posture, "robot posture from its profile")
       ->capture_default_str();
-  render->add_flag("--depth", render_options.depth, "write metric depth as a grey image (near is bright)");
-  render->add_option("--width", render_options.width)->check(CLI::Range(16, 1280))->capture_default_str();
-  render->add_option("--height", render_options.height)->check(CLI::Range(16, 960))->capture_default_str();
+  render->add_flag("--depth", render_options.depth,
+                   "write metric depth as a grey image (near is bright)");
+  render->add_option("--width", render_options.width)
+      ->check(CLI::Range(16, 1280))
+      ->capture_default_str();
+  render->add_option("--height", render_options.height)
+      ->check(CLI::Range(16, 960))
+      ->capture_default_str();
   render->add_option("--out", render_options.out, "output PNG")->required();
 
   taskmatrix::harness::ScenesJobOptions scenes_options;
@@ -102,7 +112,9 @@ int main(int argc, char** argv) {
   scenes->add_option("--seeds", scenes_options.seeds, "layout seeds 1..N")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  scenes->add_option("--obstacles", scenes_options.obstacles)->check(CLI::Range(0, 200))->capture_default_str();
+  scenes->add_option("--obstacles", scenes_options.obstacles)
+      ->check(CLI::Range(0, 200))
+      ->capture_default_str();
   scenes->add_option("--out", scenes_out, "output folder")->capture_default_str();
 
   try {
@@ -114,7 +126,8 @@ int main(int argc, char** argv) {
   try {
     const ModelCatalog catalog = ModelCatalog::from_environment();
     if (*list) {
-      for (const std::string& name : list_what == "robots" ? catalog.robots() : catalog.environments()) {
+      for (const std::string& name :
+           list_what == "robots" ? catalog.robots() : catalog.environments()) {
         std::cout << name << "\n";
       }
       return 0;

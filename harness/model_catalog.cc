@@ -20,12 +20,14 @@ std::vector<std::string> entries_with(const std::filesystem::path& dir, const ch
   return names;
 }
 
-std::filesystem::path lookup(const std::vector<std::string>& known, const std::filesystem::path& dir,
-                             const std::string& kind, const std::string& name) {
+std::filesystem::path lookup(const std::vector<std::string>& known,
+                             const std::filesystem::path& dir, const std::string& kind,
+                             const std::string& name) {
   if (std::find(known.begin(), known.end(), name) != known.end()) return dir / name;
   std::string list;
   for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-  throw core::InputError(dir.string(), "", "unknown " + kind + " '" + name + "' (known: " + list + ")");
+  throw core::InputError(dir.string(), "",
+                         "unknown " + kind + " '" + name + "' (known: " + list + ")");
 }
 
 }  // namespace

@@ -23,11 +23,13 @@ std::string fixed(double v, int digits) {
 
 }  // namespace
 
-int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options, std::ostream& out) {
+int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
+                   std::ostream& out) {
   using mujoco::CameraView;
   int scenes_with_contacts = 0, images = 0;
   const auto job_start = std::chrono::steady_clock::now();
-  out << "| robot | environment | seed | obstacles | load ms | layout us | robot contacts | images |\n"
+  out << "| robot | environment | seed | obstacles | load ms | layout us | robot contacts | images "
+         "|\n"
       << "|---|---|---|---|---|---|---|---|\n";
   for (const std::string& robot : catalog.robots()) {
     for (const std::string& env : catalog.environments()) {
@@ -38,8 +40,8 @@ int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
       mujoco::OffscreenRenderer renderer(scene->model(), options.width, options.height);
       CameraView overview;
       if (!scene->environment().cameras.empty()) {
-        overview.fixed_camera = mj_name2id(scene->model(), mjOBJ_CAMERA,
-                                           scene->environment().cameras.front().c_str());
+        overview.fixed_camera =
+            mj_name2id(scene->model(), mjOBJ_CAMERA, scene->environment().cameras.front().c_str());
       }
       CameraView head;
       head.fixed_camera = scene->head_camera();
@@ -60,17 +62,19 @@ int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
         mujoco::write_png(head_png, renderer.render_rgb(worker.model(), worker.data(), head));
         images += 2;
         std::string contact_text = std::to_string(contacts.size());
-        if (!contacts.empty()) contact_text += " (" + contacts[0].body1 + "~" + contacts[0].body2 + ")";
+        if (!contacts.empty())
+          contact_text += " (" + contacts[0].body1 + "~" + contacts[0].body2 + ")";
         out << "| " << robot << " | " << env << " | " << seed << " | " << layout.obstacles.size()
-            << " | " << (seed == 1 ? fixed(load_ms, 1) : std::string("")) << " | " << fixed(layout_us, 0)
-            << " | " << contact_text << " | " << scene_png.string() << ", " << head_png.filename().string()
-            << " |\n";
+            << " | " << (seed == 1 ? fixed(load_ms, 1) : std::string("")) << " | "
+            << fixed(layout_us, 0) << " | " << contact_text << " | " << scene_png.string() << ", "
+            << head_png.filename().string() << " |\n";
       }
     }
   }
-  out << "\n" << images << " images in " << options.out.string() << ", "
-      << fixed(seconds_since(job_start), 1) << " s; scenes with robot contacts at rest: "
-      << scenes_with_contacts << "\n";
+  out << "\n"
+      << images << " images in " << options.out.string() << ", "
+      << fixed(seconds_since(job_start), 1)
+      << " s; scenes with robot contacts at rest: " << scenes_with_contacts << "\n";
   return scenes_with_contacts;
 }
 

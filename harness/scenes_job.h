@@ -11,8 +11,8 @@
 namespace taskmatrix::harness {
 
 struct ScenesJobOptions {
-  int seeds = 3;       // layout seeds 1..seeds
-  int obstacles = 8;   // per layout
+  int seeds = 3;      // layout seeds 1..seeds
+  int obstacles = 8;  // per layout
   int width = 960;
   int height = 720;
   std::filesystem::path out = "results/scenes";

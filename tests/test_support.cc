@@ -18,12 +18,14 @@ const harness::ModelCatalog& catalog() {
   return c;
 }
 
-std::shared_ptr<const mujoco::Scene> scene(const std::string& robot, const std::string& environment) {
+std::shared_ptr<const mujoco::Scene> scene(const std::string& robot,
+                                           const std::string& environment) {
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const mujoco::Scene>> cache;
   std::lock_guard<std::mutex> lock(mutex);
   auto& s = cache[robot + "@" + environment];
-  if (!s) s = mujoco::Scene::load(catalog().robot_dir(robot), catalog().environment_dir(environment));
+  if (!s)
+    s = mujoco::Scene::load(catalog().robot_dir(robot), catalog().environment_dir(environment));
   return s;
 }
 
@@ -51,8 +53,8 @@ CommandResult run_cli(const std::string& args, const std::filesystem::path& root
   char err_tmpl[] = "/tmp/taskmatrix_test_err_XXXXXX";
   close(mkstemp(out_tmpl));
   close(mkstemp(err_tmpl));
-  const std::string command = "TASKMATRIX_ROOT='" + root.string() + "' timeout 120 " + TASKMATRIX_CLI +
-                              " " + args + " >" + out_tmpl + " 2>" + err_tmpl;
+  const std::string command = "TASKMATRIX_ROOT='" + root.string() + "' timeout 120 " +
+                              TASKMATRIX_CLI + " " + args + " >" + out_tmpl + " 2>" + err_tmpl;
   const int status = std::system(command.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

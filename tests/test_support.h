@@ -15,13 +15,16 @@ namespace taskmatrix::test {
 
 const harness::ModelCatalog& catalog();
 // Compiled once per process and shared, as workers share them.
-std::shared_ptr<const mujoco::Scene> scene(const std::string& robot, const std::string& environment);
+std::shared_ptr<const mujoco::Scene> scene(const std::string& robot,
+                                           const std::string& environment);
 
 struct RobotEnv {
   std::string robot, environment;
 };
 std::vector<RobotEnv> all_robot_environment_pairs();
-inline void PrintTo(const RobotEnv& p, std::ostream* os) { *os << p.robot << " in " << p.environment; }
+inline void PrintTo(const RobotEnv& p, std::ostream* os) {
+  *os << p.robot << " in " << p.environment;
+}
 std::string pair_name(const RobotEnv& p);  // for parameterised test names
 
 struct CommandResult {

@@ -60,10 +60,10 @@ struct LayoutRequest {
 
 struct PlacedObstacle {
   ObstacleShape shape = ObstacleShape::kBox;
-  int region = 0;               // index into LayoutRequest::regions
-  Eigen::Vector3d position;     // centre, world frame
-  double yaw = 0;               // about z
-  Eigen::Vector3d size;         // MuJoCo geom size: box half extents; cylinder (r, half h); sphere (r)
+  int region = 0;            // index into LayoutRequest::regions
+  Eigen::Vector3d position;  // centre, world frame
+  double yaw = 0;            // about z
+  Eigen::Vector3d size;      // MuJoCo geom size: box half extents; cylinder (r, half h); sphere (r)
   double footprint_radius = 0;  // radius of the circumscribing ground disk
 };
 

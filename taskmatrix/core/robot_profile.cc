@@ -34,9 +34,9 @@ void validate_profile_structure(const RobotProfile& p) {
     for (const std::string& j : c.joints) {
       auto [it, inserted] = owner.emplace(j, c.name);
       if (!inserted) {
-        throw InputError(file, "chains." + c.name + ".joints",
-                         "joint '" + j + "' is already in chain '" + it->second +
-                             "'; chains must be disjoint");
+        throw InputError(
+            file, "chains." + c.name + ".joints",
+            "joint '" + j + "' is already in chain '" + it->second + "'; chains must be disjoint");
       }
     }
   }

@@ -65,8 +65,7 @@ struct RobotProfile {
 
 inline constexpr std::array<std::string_view, 7> kRequiredChains = {
     "base", "torso", "head", "left_arm", "right_arm", "left_hand", "right_hand"};
-inline constexpr std::array<std::string_view, 3> kRequiredPostures = {"rest", "hand_open",
-                                                                      "fist"};
+inline constexpr std::array<std::string_view, 3> kRequiredPostures = {"rest", "hand_open", "fist"};
 
 // Checks what can be checked without the model: required chains and postures exist, chains
 // are disjoint, the base chain has three joints, postures name known chains with the right

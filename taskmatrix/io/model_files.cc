@@ -44,7 +44,8 @@ core::CameraSpec read_camera(const YamlNode& node) {
     std::copy(v.begin(), v.end(), cam.xyaxes.begin());
   }
   cam.fovy_deg = node.get_double("fovy", 60.0);
-  if (cam.fovy_deg <= 1 || cam.fovy_deg >= 179) node.required("fovy").fail("must be in (1, 179) degrees");
+  if (cam.fovy_deg <= 1 || cam.fovy_deg >= 179)
+    node.required("fovy").fail("must be in (1, 179) degrees");
   return cam;
 }
 
@@ -91,8 +92,8 @@ core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file)
   }
   p.head_camera = read_camera(root.required("head_camera"));
   if (p.format == core::ModelFormat::kUrdf && !p.head_camera.declared_in_profile) {
-    root.required("head_camera").fail(
-        "a URDF robot must declare its camera as {name, body, pos, xyaxes, fovy}");
+    root.required("head_camera")
+        .fail("a URDF robot must declare its camera as {name, body, pos, xyaxes, fovy}");
   }
 
   for (const auto& [side, node] : root.required("hands").entries()) {
@@ -102,7 +103,8 @@ core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file)
     hand.palm = node.required("palm").as_string();
     for (const YamlNode& f : node.required("fingers").items()) {
       f.expect_keys({"joints", "bodies"});
-      hand.fingers.push_back({f.required("joints").as_strings(), f.required("bodies").as_strings()});
+      hand.fingers.push_back(
+          {f.required("joints").as_strings(), f.required("bodies").as_strings()});
     }
     p.hands.push_back(hand);
   }
@@ -137,7 +139,8 @@ core::EnvironmentSpec load_environment_spec(const std::filesystem::path& spec_fi
 
   const YamlNode start = root.required("robot_start");
   start.expect_keys({"x", "y", "yaw"});
-  env.robot_start = {start.get_double("x", 0), start.get_double("y", 0), start.get_double("yaw", 0)};
+  env.robot_start = {start.get_double("x", 0), start.get_double("y", 0),
+                     start.get_double("yaw", 0)};
   env.start_clearance_m = root.get_double("start_clearance_m", 0.6);
   if (env.start_clearance_m < 0) root.required("start_clearance_m").fail("must not be negative");
 
@@ -147,14 +150,22 @@ core::EnvironmentSpec load_environment_spec(const std::filesystem::path& spec_fi
     obj.name = obj_name;
     const YamlNode kind = node.required("kind");
     const std::string k = kind.as_string();
-    if (k == "graspable") obj.kind = core::ObjectKind::kGraspable;
-    else if (k == "tool") obj.kind = core::ObjectKind::kTool;
-    else if (k == "surface") obj.kind = core::ObjectKind::kSurface;
-    else if (k == "debris") obj.kind = core::ObjectKind::kDebris;
-    else kind.fail("must be one of graspable, tool, surface, debris; got '" + k + "'");
-    if (node.has("body") == node.has("bodies")) node.fail("needs exactly one of 'body' and 'bodies'");
-    if (auto b = node.optional("body")) obj.bodies = {b->as_string()};
-    else obj.bodies = node.required("bodies").as_strings();
+    if (k == "graspable")
+      obj.kind = core::ObjectKind::kGraspable;
+    else if (k == "tool")
+      obj.kind = core::ObjectKind::kTool;
+    else if (k == "surface")
+      obj.kind = core::ObjectKind::kSurface;
+    else if (k == "debris")
+      obj.kind = core::ObjectKind::kDebris;
+    else
+      kind.fail("must be one of graspable, tool, surface, debris; got '" + k + "'");
+    if (node.has("body") == node.has("bodies"))
+      node.fail("needs exactly one of 'body' and 'bodies'");
+    if (auto b = node.optional("body"))
+      obj.bodies = {b->as_string()};
+    else
+      obj.bodies = node.required("bodies").as_strings();
     obj.tip_site = node.get_string("tip_site", "");
     obj.grip_site = node.get_string("grip_site", "");
     if (obj.kind == core::ObjectKind::kTool && obj.tip_site.empty()) {
@@ -178,8 +189,13 @@ core::EnvironmentSpec load_environment_spec(const std::filesystem::path& spec_fi
     for (const YamlNode& r : regions->items()) {
       r.expect_keys({"name", "x", "y", "z"});
       const core::Rect2 rect = read_rect(r);
-      env.obstacle_regions.push_back({r.required("name").as_string(), rect.x_min, rect.x_max,
-                                      rect.y_min, rect.y_max, r.get_double("z", 0.0), {}});
+      env.obstacle_regions.push_back({r.required("name").as_string(),
+                                      rect.x_min,
+                                      rect.x_max,
+                                      rect.y_min,
+                                      rect.y_max,
+                                      r.get_double("z", 0.0),
+                                      {}});
     }
   }
   // A keep-out rectangle protects every region, or only the regions it names.

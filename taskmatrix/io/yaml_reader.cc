@@ -58,7 +58,8 @@ YamlNode YamlNode::required(std::string_view child_key) const {
   if (!node_.IsMap()) fail("must be a mapping");
   const YAML::Node c = node_[std::string(child_key)];
   if (!c.IsDefined() || c.IsNull()) {
-    throw InputError(*file_, key_.empty() ? std::string(child_key) : key_ + "." + std::string(child_key),
+    throw InputError(*file_,
+                     key_.empty() ? std::string(child_key) : key_ + "." + std::string(child_key),
                      "is required but missing", line());
   }
   return child(c, std::string(child_key));

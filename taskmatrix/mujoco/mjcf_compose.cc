@@ -164,7 +164,8 @@ std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& enviro
   XMLElement* visual = composer.section("visual");
   XMLElement* global = visual->FirstChildElement("global");
   if (!global) global = visual->InsertEndChild(composer.doc().NewElement("global"))->ToElement();
-  global->SetAttribute("offwidth", std::max(global->IntAttribute("offwidth"), options.offscreen_width));
+  global->SetAttribute("offwidth",
+                       std::max(global->IntAttribute("offwidth"), options.offscreen_width));
   global->SetAttribute("offheight",
                        std::max(global->IntAttribute("offheight"), options.offscreen_height));
 

@@ -19,7 +19,9 @@ void on_mujoco_error(const char* msg) {
   std::_Exit(3);
 }
 
-void on_mujoco_warning(const char* msg) { std::fprintf(stderr, "taskmatrix: MuJoCo warning: %s\n", msg); }
+void on_mujoco_warning(const char* msg) {
+  std::fprintf(stderr, "taskmatrix: MuJoCo warning: %s\n", msg);
+}
 
 // MuJoCo's parser reports "Error: ... Element 'x', line 12" over several lines; keep one.
 std::string one_line(const char* text) {

@@ -30,8 +30,14 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* model, int width, int height
                              std::to_string(model->vis.global.offwidth) + "x" +
                              std::to_string(model->vis.global.offheight));
   }
-  const int attributes[] = {OSMESA_FORMAT,       OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                            OSMESA_STENCIL_BITS, 8,           OSMESA_PROFILE,    OSMESA_COMPAT_PROFILE,
+  const int attributes[] = {OSMESA_FORMAT,
+                            OSMESA_RGBA,
+                            OSMESA_DEPTH_BITS,
+                            24,
+                            OSMESA_STENCIL_BITS,
+                            8,
+                            OSMESA_PROFILE,
+                            OSMESA_COMPAT_PROFILE,
                             0};
   impl_->context = OSMesaCreateContextAttribs(attributes, nullptr);
   if (!impl_->context) throw std::runtime_error("OSMesa cannot create a rendering context");
@@ -112,8 +118,10 @@ DepthImage OffscreenRenderer::render_depth(const mjModel* model, mjData* data,
 
 void write_png(const std::filesystem::path& file, const RgbImage& image) {
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  const unsigned err = lodepng::encode(file.string(), image.pixels, image.width, image.height, LCT_RGB, 8);
-  if (err) throw std::runtime_error(file.string() + ": cannot write PNG: " + lodepng_error_text(err));
+  const unsigned err =
+      lodepng::encode(file.string(), image.pixels, image.width, image.height, LCT_RGB, 8);
+  if (err)
+    throw std::runtime_error(file.string() + ": cannot write PNG: " + lodepng_error_text(err));
 }
 
 void write_depth_png(const std::filesystem::path& file, const DepthImage& image) {
@@ -133,7 +141,8 @@ void write_depth_png(const std::filesystem::path& file, const DepthImage& image)
   }
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
   const unsigned err = lodepng::encode(file.string(), grey, image.width, image.height, LCT_GREY, 8);
-  if (err) throw std::runtime_error(file.string() + ": cannot write PNG: " + lodepng_error_text(err));
+  if (err)
+    throw std::runtime_error(file.string() + ": cannot write PNG: " + lodepng_error_text(err));
 }
 
 }  // namespace taskmatrix::mujoco

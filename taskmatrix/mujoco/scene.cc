@@ -33,7 +33,8 @@ std::filesystem::path required_file(const std::filesystem::path& dir, const char
 }
 
 bool near_axis(const mjtNum* axis, double x, double y, double z) {
-  return std::abs(axis[0] - x) < 1e-6 && std::abs(axis[1] - y) < 1e-6 && std::abs(axis[2] - z) < 1e-6;
+  return std::abs(axis[0] - x) < 1e-6 && std::abs(axis[1] - y) < 1e-6 &&
+         std::abs(axis[2] - z) < 1e-6;
 }
 
 }  // namespace
@@ -42,7 +43,8 @@ std::shared_ptr<const Scene> Scene::load(const std::filesystem::path& robot_dir,
                                          const std::filesystem::path& environment_dir) {
   std::shared_ptr<Scene> scene(new Scene());
   scene->robot_ = io::load_robot_profile(required_file(robot_dir, "profile.yaml"));
-  scene->environment_ = io::load_environment_spec(required_file(environment_dir, "environment.yaml"));
+  scene->environment_ =
+      io::load_environment_spec(required_file(environment_dir, "environment.yaml"));
   const core::RobotProfile& robot = scene->robot_;
   const core::EnvironmentSpec& env = scene->environment_;
 
@@ -112,15 +114,17 @@ void Scene::index_and_validate() {
     if (!is_robot_body(m->jnt_bodyid[j])) continue;
     const char* name = mj_id2name(m, mjOBJ_JOINT, j);
     bool in_chain = false;
-    for (const ChainIndex& c : chains_) in_chain = in_chain || std::count(c.joints.begin(), c.joints.end(), j);
+    for (const ChainIndex& c : chains_)
+      in_chain = in_chain || std::count(c.joints.begin(), c.joints.end(), j);
     if (!in_chain) {
       throw InputError(pfile, "chains",
                        "robot joint '" + std::string(name ? name : "?") + "' is in no chain");
     }
     bool actuated = false;
     for (int a = 0; a < m->nu; ++a) {
-      actuated = actuated || (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == j &&
-                              m->actuator_biastype[a] == mjBIAS_AFFINE);
+      actuated =
+          actuated || (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == j &&
+                       m->actuator_biastype[a] == mjBIAS_AFFINE);
     }
     if (!actuated) {
       throw InputError(mfile, "actuator",
@@ -133,8 +137,9 @@ void Scene::index_and_validate() {
     try {
       frame(spec.end_effector);
     } catch (const std::out_of_range&) {
-      throw InputError(pfile, "chains." + spec.name + ".end_effector",
-                       "frame '" + spec.end_effector + "' is neither a site nor a body in " + mfile);
+      throw InputError(
+          pfile, "chains." + spec.name + ".end_effector",
+          "frame '" + spec.end_effector + "' is neither a site nor a body in " + mfile);
     }
   }
   for (const core::HandSpec& hand : robot_.hands) {
@@ -168,7 +173,8 @@ void Scene::index_and_validate() {
           throw InputError(pfile, "postures." + posture_name + "." + chain_name,
                            "value " + std::to_string(values[i]) + " for joint '" +
                                mj_id2name(m, mjOBJ_JOINT, c.joints[i]) + "' is outside [" +
-                               std::to_string(c.lower[i]) + ", " + std::to_string(c.upper[i]) + "]");
+                               std::to_string(c.lower[i]) + ", " + std::to_string(c.upper[i]) +
+                               "]");
         }
       }
     }
@@ -194,7 +200,8 @@ void Scene::index_and_validate() {
         throw InputError(efile, "objects." + obj_name,
                          "body '" + body + "' is not in " + environment_.model_file.string());
       }
-      if (obj.kind != core::ObjectKind::kSurface) object_footprints_.push_back(footprint_of_body(b));
+      if (obj.kind != core::ObjectKind::kSurface)
+        object_footprints_.push_back(footprint_of_body(b));
     }
     for (const std::string* site : {&obj.tip_site, &obj.grip_site}) {
       if (!site->empty() && mj_name2id(m, mjOBJ_SITE, site->c_str()) < 0) {
@@ -205,19 +212,23 @@ void Scene::index_and_validate() {
   }
   if (!environment_.visitor.body.empty()) {
     const int b = mj_name2id(m, mjOBJ_BODY, environment_.visitor.body.c_str());
-    if (b < 0) throw InputError(efile, "visitor.body", "body '" + environment_.visitor.body + "' is missing");
+    if (b < 0)
+      throw InputError(efile, "visitor.body",
+                       "body '" + environment_.visitor.body + "' is missing");
     object_footprints_.push_back(footprint_of_body(b));
   }
   for (const std::string& cam : environment_.cameras) {
     if (mj_name2id(m, mjOBJ_CAMERA, cam.c_str()) < 0) {
-      throw InputError(efile, "cameras", "camera '" + cam + "' is not in " + environment_.model_file.string());
+      throw InputError(efile, "cameras",
+                       "camera '" + cam + "' is not in " + environment_.model_file.string());
     }
   }
   for (int slot = 0; slot < environment_.obstacle_slots; ++slot) {
     ObstacleSlot s;
     s.body = mj_name2id(m, mjOBJ_BODY, obstacle_body_name(slot).c_str());
     for (int k = 0; k < 3; ++k) {
-      s.geoms[k] = mj_name2id(m, mjOBJ_GEOM, obstacle_geom_name(slot, core::ObstacleShape(k)).c_str());
+      s.geoms[k] =
+          mj_name2id(m, mjOBJ_GEOM, obstacle_geom_name(slot, core::ObstacleShape(k)).c_str());
     }
     obstacle_slots_.push_back(s);
   }
@@ -238,8 +249,10 @@ const ChainIndex& Scene::chain(std::string_view name) const {
 
 FrameRef Scene::frame(std::string_view name) const {
   const std::string n(name);
-  if (int s = mj_name2id(model_.get(), mjOBJ_SITE, n.c_str()); s >= 0) return {FrameRef::Kind::kSite, s};
-  if (int b = mj_name2id(model_.get(), mjOBJ_BODY, n.c_str()); b >= 0) return {FrameRef::Kind::kBody, b};
+  if (int s = mj_name2id(model_.get(), mjOBJ_SITE, n.c_str()); s >= 0)
+    return {FrameRef::Kind::kSite, s};
+  if (int b = mj_name2id(model_.get(), mjOBJ_BODY, n.c_str()); b >= 0)
+    return {FrameRef::Kind::kBody, b};
   throw std::out_of_range("no frame '" + n + "' in robot " + robot_.name);
 }
 
@@ -252,7 +265,8 @@ bool Scene::is_robot_geom(int geom) const { return is_robot_body(model_->geom_bo
 void Scene::apply_posture(std::string_view posture, double* qpos) const {
   const auto it = robot_.postures.find(std::string(posture));
   if (it == robot_.postures.end()) {
-    throw std::out_of_range("robot " + robot_.name + " has no posture '" + std::string(posture) + "'");
+    throw std::out_of_range("robot " + robot_.name + " has no posture '" + std::string(posture) +
+                            "'");
   }
   for (const auto& [chain_name, values] : it->second) {
     const ChainIndex& c = chain(chain_name);
@@ -269,8 +283,8 @@ core::LayoutRequest Scene::layout_request(int count) const {
   core::LayoutRequest req;
   req.count = count;
   req.regions = environment_.obstacle_regions;
-  req.protected_disks.push_back({environment_.robot_start.x, environment_.robot_start.y,
-                                 environment_.start_clearance_m});
+  req.protected_disks.push_back(
+      {environment_.robot_start.x, environment_.robot_start.y, environment_.start_clearance_m});
   req.protected_rects = environment_.keep_out;
   req.protected_rects.insert(req.protected_rects.end(), object_footprints_.begin(),
                              object_footprints_.end());
@@ -280,7 +294,9 @@ core::LayoutRequest Scene::layout_request(int count) const {
 // ---------------------------------------------------------------------------------------
 
 WorkerScene::WorkerScene(std::shared_ptr<const Scene> scene)
-    : scene_(std::move(scene)), model_(copy_model(scene_->model())), data_(make_data(model_.get())) {
+    : scene_(std::move(scene)),
+      model_(copy_model(scene_->model())),
+      data_(make_data(model_.get())) {
   reset_to_start();
 }
 

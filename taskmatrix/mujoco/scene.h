@@ -56,7 +56,7 @@ class Scene {
 
   const std::vector<ChainIndex>& chains() const { return chains_; }
   const ChainIndex& chain(std::string_view name) const;  // throws std::out_of_range
-  FrameRef frame(std::string_view name) const;            // throws std::out_of_range
+  FrameRef frame(std::string_view name) const;           // throws std::out_of_range
   int head_camera() const { return head_camera_; }
   int robot_root_body() const { return robot_root_; }
   bool is_robot_body(int body) const;

@@ -56,8 +56,8 @@ void validate_urdf(const core::RobotProfile& profile, const std::string& text) {
       urdf::JointConstSharedPtr joint = urdf->getJoint(name);
       if (!joint) {
         throw InputError(file, key,
-                         "missing (profile " + profile.profile_file.string() + " names it in chain '" +
-                             chain.name + "')");
+                         "missing (profile " + profile.profile_file.string() +
+                             " names it in chain '" + chain.name + "')");
       }
       if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::PRISMATIC) {
         throw InputError(file, key,
@@ -73,9 +73,9 @@ void validate_urdf(const core::RobotProfile& profile, const std::string& text) {
     for (const core::FingerSpec& finger : hand.fingers) {
       for (const std::string& body : finger.bodies) {
         if (!urdf->getLink(body)) {
-          throw InputError(file, "link[" + body + "]",
-                           "missing (profile names it as a finger segment of the " + hand.side +
-                               " hand)");
+          throw InputError(
+              file, "link[" + body + "]",
+              "missing (profile names it as a finger segment of the " + hand.side + " hand)");
         }
       }
     }
@@ -96,14 +96,16 @@ std::string compile_and_save(const core::RobotProfile& profile) {
   std::string text = ok ? read_text(tmpl) : std::string();
   std::filesystem::remove(tmpl);
   if (!ok) {
-    throw InputError(profile.model_file.string(), "", std::string("MuJoCo cannot save it: ") + error);
+    throw InputError(profile.model_file.string(), "",
+                     std::string("MuJoCo cannot save it: ") + error);
   }
   return text;
 }
 
 tinyxml2::XMLElement* find_body(tinyxml2::XMLElement* e, const std::string& name) {
   for (tinyxml2::XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
-    if (std::string_view(c->Name()) == "body" && c->Attribute("name") && name == c->Attribute("name")) {
+    if (std::string_view(c->Name()) == "body" && c->Attribute("name") &&
+        name == c->Attribute("name")) {
       return c;
     }
     if (tinyxml2::XMLElement* found = find_body(c, name)) return found;
@@ -153,7 +155,8 @@ std::string import_urdf_as_mjcf(const core::RobotProfile& profile) {
   for (const core::ChainSpec& chain : profile.chains) {
     const bool hand = chain.name.ends_with("_hand");
     double kp = hand ? kDefaultHandKp : kDefaultArmKp;
-    if (auto it = profile.actuator_kp.find(chain.name); it != profile.actuator_kp.end()) kp = it->second;
+    if (auto it = profile.actuator_kp.find(chain.name); it != profile.actuator_kp.end())
+      kp = it->second;
     for (const std::string& j : chain.joints) kp_of_joint[j] = kp;
   }
   std::vector<tinyxml2::XMLElement*> joints;
@@ -177,7 +180,8 @@ std::string import_urdf_as_mjcf(const core::RobotProfile& profile) {
   }
   // MuJoCo writes a <size> and <compiler> of its own; drop what would conflict when composed.
   if (tinyxml2::XMLElement* compiler = root->FirstChildElement("compiler")) {
-    for (const char* attr : {"meshdir", "texturedir", "fusestatic", "discardvisual", "balanceinertia"}) {
+    for (const char* attr :
+         {"meshdir", "texturedir", "fusestatic", "discardvisual", "balanceinertia"}) {
       compiler->DeleteAttribute(attr);
     }
   }

@@ -10,7 +10,8 @@ namespace {
 LayoutRequest crowded_room(int count) {
   LayoutRequest req;
   req.count = count;
-  req.regions = {{"floor", -2.0, 3.0, -2.0, 2.0, 0.0, {}}, {"table", 0.3, 0.9, -0.6, 0.6, 0.65, {}}};
+  req.regions = {{"floor", -2.0, 3.0, -2.0, 2.0, 0.0, {}},
+                 {"table", 0.3, 0.9, -0.6, 0.6, 0.65, {}}};
   req.protected_disks = {{0.0, 0.0, 0.6}};
   req.protected_rects = {{0.38, 0.46, -0.16, -0.08}, {1.0, 1.4, 1.0, 1.9}};
   return req;
@@ -32,7 +33,8 @@ TEST(ObstacleLayout, SameSeedGivesTheSameLayoutBitForBit) {
 
 TEST(ObstacleLayout, DifferentSeedsGiveDifferentLayouts) {
   const LayoutRequest req = crowded_room(5);
-  EXPECT_NE(generate_layout(req, 1).obstacles[0].position, generate_layout(req, 2).obstacles[0].position);
+  EXPECT_NE(generate_layout(req, 1).obstacles[0].position,
+            generate_layout(req, 2).obstacles[0].position);
 }
 
 TEST(ObstacleLayout, OverAThousandSeedsNothingProtectedIsEverOverlapped) {
@@ -64,7 +66,7 @@ TEST(ObstacleLayout, OverAThousandSeedsNothingProtectedIsEverOverlapped) {
       const double half_height = o.shape == ObstacleShape::kSphere ? o.size.x() : o.size.z();
       const double expected_bottom = r.z;
       const double bottom = o.shape == ObstacleShape::kCylinder ? o.position.z() - o.size.y()
-                                                                 : o.position.z() - half_height;
+                                                                : o.position.z() - half_height;
       ASSERT_NEAR(bottom, expected_bottom, 1e-12);
     }
   }

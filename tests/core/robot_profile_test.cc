@@ -14,13 +14,17 @@ RobotProfile valid_profile() {
   p.name = "toy";
   p.profile_file = "models/robots/toy/profile.yaml";
   p.height_m = 1.0;
-  p.chains = {{"base", {"x", "y", "yaw"}, ""},  {"torso", {"t"}, ""},
-              {"head", {"h"}, ""},              {"left_arm", {"la1", "la2"}, "lp"},
-              {"right_arm", {"ra1", "ra2"}, "rp"}, {"left_hand", {"lf1", "lf2"}, ""},
+  p.chains = {{"base", {"x", "y", "yaw"}, ""},
+              {"torso", {"t"}, ""},
+              {"head", {"h"}, ""},
+              {"left_arm", {"la1", "la2"}, "lp"},
+              {"right_arm", {"ra1", "ra2"}, "rp"},
+              {"left_hand", {"lf1", "lf2"}, ""},
               {"right_hand", {"rf1", "rf2"}, ""}};
   p.hands = {{"left", "lp", {{{"lf1", "lf2"}, {"lf1b", "lf2b"}}}},
              {"right", "rp", {{{"rf1", "rf2"}, {"rf1b", "rf2b"}}}}};
-  p.postures = {{"rest", {{"left_arm", {0, 0}}}}, {"hand_open", {{"left_hand", {0, 0}}}},
+  p.postures = {{"rest", {{"left_arm", {0, 0}}}},
+                {"hand_open", {{"left_hand", {0, 0}}}},
                 {"fist", {{"left_hand", {1, 1}}}}};
   return p;
 }
@@ -60,7 +64,8 @@ TEST(RobotProfile, PosturesNeedOneFiniteValuePerJoint) {
   EXPECT_NE(error_of(p).find("has 1 values but chain 'left_arm' has 2 joints"), std::string::npos);
   p = valid_profile();
   p.postures["rest"]["left_arm"] = {0.1, std::nan("")};
-  EXPECT_NE(error_of(p).find("postures.rest.left_arm: holds a non-finite value"), std::string::npos);
+  EXPECT_NE(error_of(p).find("postures.rest.left_arm: holds a non-finite value"),
+            std::string::npos);
   p = valid_profile();
   p.postures["rest"]["tail"] = {0.1};
   EXPECT_NE(error_of(p).find("unknown chain 'tail'"), std::string::npos);

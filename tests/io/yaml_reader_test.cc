@@ -17,8 +17,10 @@ std::string error_of(const std::function<void()>& f) {
 }
 
 TEST(YamlReader, UnknownKeyNamesFileLineAndKey) {
-  const YamlNode root = YamlNode::parse("name: a\nchains:\n  arm:\n    joints: [a]\n    colour: red\n", "p.yaml");
-  const std::string e = error_of([&] { root.required("chains").required("arm").expect_keys({"joints"}); });
+  const YamlNode root =
+      YamlNode::parse("name: a\nchains:\n  arm:\n    joints: [a]\n    colour: red\n", "p.yaml");
+  const std::string e =
+      error_of([&] { root.required("chains").required("arm").expect_keys({"joints"}); });
   EXPECT_EQ(e, "p.yaml:5: chains.arm.colour: unknown key (expected one of: joints)");
 }
 
@@ -29,12 +31,17 @@ TEST(YamlReader, MissingKeyIsNamed) {
 
 TEST(YamlReader, NanAndInfinityAndTextAreNotNumbers) {
   const YamlNode root = YamlNode::parse("a: .nan\nb: .inf\nc: twelve\nd: [1, 2, x]\n", "f.yaml");
-  EXPECT_NE(error_of([&] { root.required("a").as_double(); }).find("f.yaml:1: a: must be a finite number"),
+  EXPECT_NE(error_of([&] {
+              root.required("a").as_double();
+            }).find("f.yaml:1: a: must be a finite number"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { root.required("b").as_double(); }).find("must be a finite number"), std::string::npos);
-  EXPECT_NE(error_of([&] { root.required("c").as_double(); }).find("must be a number, got 'twelve'"),
+  EXPECT_NE(error_of([&] { root.required("b").as_double(); }).find("must be a finite number"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { root.required("d").as_doubles(); }).find("d[2]: must be a number"), std::string::npos);
+  EXPECT_NE(
+      error_of([&] { root.required("c").as_double(); }).find("must be a number, got 'twelve'"),
+      std::string::npos);
+  EXPECT_NE(error_of([&] { root.required("d").as_doubles(); }).find("d[2]: must be a number"),
+            std::string::npos);
 }
 
 TEST(YamlReader, MalformedYamlNamesFileAndLine) {
@@ -44,7 +51,8 @@ TEST(YamlReader, MalformedYamlNamesFileAndLine) {
 }
 
 TEST(YamlReader, MissingFileIsNamed) {
-  EXPECT_EQ(error_of([] { YamlNode::load_file("/nonexistent/x.yaml"); }), "/nonexistent/x.yaml: cannot open file");
+  EXPECT_EQ(error_of([] { YamlNode::load_file("/nonexistent/x.yaml"); }),
+            "/nonexistent/x.yaml: cannot open file");
 }
 
 TEST(YamlReader, TypedValuesRoundTrip) {
@@ -54,7 +62,8 @@ TEST(YamlReader, TypedValuesRoundTrip) {
   EXPECT_TRUE(root.required("c").as_bool());
   EXPECT_EQ(root.required("d").as_strings(), (std::vector<std::string>{"x", "y"}));
   EXPECT_EQ(root.get_double("missing", 2.5), 2.5);
-  EXPECT_NE(error_of([&] { root.required("a").as_int(); }).find("must be an integer"), std::string::npos);
+  EXPECT_NE(error_of([&] { root.required("a").as_int(); }).find("must be an integer"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -25,16 +25,17 @@ TEST_P(BadInput, OneClearLineAndANonZeroExit) {
   const BadInputCase& c = GetParam();
   ScratchRoot root;
   c.corrupt(root);
-  const CommandResult r = run_cli("render --robot " + c.robot + " --env kitchen --out " +
-                                      (root.path() / "x.png").string(),
-                                  root.path());
+  const CommandResult r = run_cli(
+      "render --robot " + c.robot + " --env kitchen --out " + (root.path() / "x.png").string(),
+      root.path());
   EXPECT_EQ(r.exit_code, 2) << "stderr: " << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr: " << r.err;
   EXPECT_EQ(r.err.rfind("taskmatrix: error: ", 0), 0u) << r.err;
   for (const std::string& s : c.expected) {
     EXPECT_NE(r.err.find(s), std::string::npos) << "expected '" << s << "' in: " << r.err;
   }
-  EXPECT_FALSE(std::filesystem::exists(root.path() / "x.png")) << "wrote an image despite the error";
+  EXPECT_FALSE(std::filesystem::exists(root.path() / "x.png"))
+      << "wrote an image despite the error";
 }
 
 const std::string kProfile = "models/robots/minibot/profile.yaml";
@@ -45,46 +46,80 @@ const std::string kEnvMjcf = "models/environments/kitchen/kitchen.xml";
 
 std::vector<BadInputCase> cases() {
   return {
-      {"MjcfTruncated", "minibot",
-       [](const ScratchRoot& r) { const std::string t = r.read(kMjcf); r.write(kMjcf, t.substr(0, t.size() / 2)); },
+      {"MjcfTruncated",
+       "minibot",
+       [](const ScratchRoot& r) {
+         const std::string t = r.read(kMjcf);
+         r.write(kMjcf, t.substr(0, t.size() / 2));
+       },
        {"minibot.xml", "MuJoCo"}},
-      {"MjcfActuatorOnUnknownJoint", "minibot",
-       [](const ScratchRoot& r) { r.replace(kMjcf, "</actuator>", "<position joint=\"NoSuchJoint\"/></actuator>"); },
+      {"MjcfActuatorOnUnknownJoint",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kMjcf, "</actuator>", "<position joint=\"NoSuchJoint\"/></actuator>");
+       },
        {"minibot.xml", "NoSuchJoint"}},
-      {"MjcfNotXml", "minibot", [](const ScratchRoot& r) { r.write(kMjcf, "this is not xml"); }, {"minibot.xml"}},
-      {"UrdfMalformed", "minibot_urdf", [](const ScratchRoot& r) { r.replace(kUrdf, "</robot>", ""); },
+      {"MjcfNotXml",
+       "minibot",
+       [](const ScratchRoot& r) { r.write(kMjcf, "this is not xml"); },
+       {"minibot.xml"}},
+      {"UrdfMalformed",
+       "minibot_urdf",
+       [](const ScratchRoot& r) { r.replace(kUrdf, "</robot>", ""); },
        {"minibot.urdf", "urdfdom"}},
-      {"UrdfJointWithoutLimits", "minibot_urdf",
+      {"UrdfJointWithoutLimits",
+       "minibot_urdf",
        [](const ScratchRoot& r) {
          r.replace(kUrdf, "<joint name=\"LElbowRoll\" type=\"revolute\">",
                    "<joint name=\"LElbowRoll\" type=\"continuous\">");
        },
        {"minibot.urdf", "joint[LElbowRoll]"}},
-      {"ProfileUnknownKey", "minibot", [](const ScratchRoot& r) { r.write(kProfile, r.read(kProfile) + "colour: red\n"); },
+      {"ProfileUnknownKey",
+       "minibot",
+       [](const ScratchRoot& r) { r.write(kProfile, r.read(kProfile) + "colour: red\n"); },
        {"profile.yaml:", "colour: unknown key"}},
-      {"ProfileNanHeight", "minibot",
+      {"ProfileNanHeight",
+       "minibot",
        [](const ScratchRoot& r) { r.replace(kProfile, "height_m: 1.105", "height_m: .nan"); },
        {"profile.yaml:", "height_m: must be a finite number"}},
-      {"ProfilePostureOutsideLimits", "minibot",
-       [](const ScratchRoot& r) { r.replace(kProfile, "    torso:      [0]", "    torso:      [2.5]"); },
+      {"ProfilePostureOutsideLimits",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "    torso:      [0]", "    torso:      [2.5]");
+       },
        {"profile.yaml", "postures.rest.torso", "TorsoPitch", "outside"}},
-      {"ProfileJointNotInModel", "minibot",
-       [](const ScratchRoot& r) { r.replace(kProfile, "{joints: [HeadYaw]}", "{joints: [HeadRoll]}"); },
+      {"ProfileJointNotInModel",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "{joints: [HeadYaw]}", "{joints: [HeadRoll]}");
+       },
        {"profile.yaml", "chains.head.joints", "HeadRoll"}},
-      {"ProfileChainsOverlap", "minibot",
-       [](const ScratchRoot& r) { r.replace(kProfile, "{joints: [HeadYaw]}", "{joints: [TorsoPitch]}"); },
+      {"ProfileChainsOverlap",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "{joints: [HeadYaw]}", "{joints: [TorsoPitch]}");
+       },
        {"profile.yaml", "already in chain"}},
-      {"ProfileNotYaml", "minibot", [](const ScratchRoot& r) { r.write(kProfile, "chains: [unclosed\n"); },
+      {"ProfileNotYaml",
+       "minibot",
+       [](const ScratchRoot& r) { r.write(kProfile, "chains: [unclosed\n"); },
        {"profile.yaml", "not valid YAML"}},
-      {"EnvironmentModelMissing", "minibot",
-       [](const ScratchRoot& r) { r.replace(kEnvSpec, "model: kitchen.xml", "model: nothere.xml"); },
+      {"EnvironmentModelMissing",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kEnvSpec, "model: kitchen.xml", "model: nothere.xml");
+       },
        {"environment.yaml", "model", "nothere.xml"}},
-      {"EnvironmentMjcfBroken", "minibot",
-       [](const ScratchRoot& r) { r.write(kEnvMjcf, "<mujoco><worldbody><body></mujoco>"); }, {"kitchen.xml"}},
-      {"EnvironmentObjectBodyMissing", "minibot",
+      {"EnvironmentMjcfBroken",
+       "minibot",
+       [](const ScratchRoot& r) { r.write(kEnvMjcf, "<mujoco><worldbody><body></mujoco>"); },
+       {"kitchen.xml"}},
+      {"EnvironmentObjectBodyMissing",
+       "minibot",
        [](const ScratchRoot& r) { r.replace(kEnvSpec, "body: cup", "body: mug"); },
        {"environment.yaml", "objects.cup", "mug"}},
-      {"EnvironmentAnglesDisagree", "minibot",
+      {"EnvironmentAnglesDisagree",
+       "minibot",
        [](const ScratchRoot& r) { r.replace(kEnvMjcf, "angle=\"radian\"", "angle=\"degree\""); },
        {"compiler.angle"}},
   };
@@ -94,9 +129,12 @@ INSTANTIATE_TEST_SUITE_P(Files, BadInput, ::testing::ValuesIn(cases()),
                          [](const auto& p) { return p.param.name; });
 
 TEST(BadInput, UnknownRobotListsTheKnownOnes) {
-  const CommandResult r = run_cli("render --robot nobody --env kitchen --out /tmp/never.png", TASKMATRIX_TEST_ROOT);
+  const CommandResult r =
+      run_cli("render --robot nobody --env kitchen --out /tmp/never.png", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("unknown robot 'nobody' (known: minibot, minibot_urdf, tallbot)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unknown robot 'nobody' (known: minibot, minibot_urdf, tallbot)"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST(Cli, ListPrintsOneNamePerLine) {
@@ -111,9 +149,10 @@ TEST(Cli, ListPrintsOneNamePerLine) {
 TEST(Cli, RenderWritesAPng) {
   ScratchRoot root;
   const auto out = root.path() / "head.png";
-  const CommandResult r =
-      run_cli("render --robot minibot --env office --seed 4 --camera head --width 64 --height 48 --out " + out.string(),
-              TASKMATRIX_TEST_ROOT);
+  const CommandResult r = run_cli(
+      "render --robot minibot --env office --seed 4 --camera head --width 64 --height 48 --out " +
+          out.string(),
+      TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(std::filesystem::exists(out));
   EXPECT_GT(std::filesystem::file_size(out), 200u);

@@ -22,11 +22,13 @@ TEST_P(LayoutsInEveryScene, ThousandSeedsNeverOverlapRobotObjectsOrVisitor) {
   WorkerScene worker(scene);
   const mjModel* m = worker.model();
   std::set<int> obstacle_geoms;
-  for (const ObstacleSlot& s : scene->obstacle_slots()) obstacle_geoms.insert(s.geoms.begin(), s.geoms.end());
+  for (const ObstacleSlot& s : scene->obstacle_slots())
+    obstacle_geoms.insert(s.geoms.begin(), s.geoms.end());
   std::set<int> protected_bodies;
   for (const auto& [name, obj] : scene->environment().objects) {
     if (obj.kind == core::ObjectKind::kSurface) continue;
-    for (const std::string& b : obj.bodies) protected_bodies.insert(mj_name2id(m, mjOBJ_BODY, b.c_str()));
+    for (const std::string& b : obj.bodies)
+      protected_bodies.insert(mj_name2id(m, mjOBJ_BODY, b.c_str()));
   }
   protected_bodies.insert(mj_name2id(m, mjOBJ_BODY, scene->environment().visitor.body.c_str()));
 
@@ -42,9 +44,11 @@ TEST_P(LayoutsInEveryScene, ThousandSeedsNeverOverlapRobotObjectsOrVisitor) {
       const bool o1 = obstacle_geoms.count(c.geom1), o2 = obstacle_geoms.count(c.geom2);
       if (!o1 && !o2) continue;
       const int other = o1 ? c.geom2 : c.geom1;
-      ASSERT_FALSE(scene->is_robot_geom(other)) << "seed " << seed << ": obstacle touches the robot";
+      ASSERT_FALSE(scene->is_robot_geom(other))
+          << "seed " << seed << ": obstacle touches the robot";
       ASSERT_FALSE(protected_bodies.count(m->geom_bodyid[other]))
-          << "seed " << seed << ": obstacle touches " << mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[other]);
+          << "seed " << seed << ": obstacle touches "
+          << mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[other]);
     }
     placed += count;
   }
@@ -62,15 +66,18 @@ TEST_P(LayoutsInEveryScene, WritesOnlyTheWorkersCopyAndIsRepeatable) {
   b.apply_layout(layout);  // re-applying over another layout leaves no trace of it
   a.reset_to_start();
   b.reset_to_start();
-  EXPECT_EQ(scene->model()->body_pos[3 * slot_body + 2], shared_z) << "the shared model was written";
+  EXPECT_EQ(scene->model()->body_pos[3 * slot_body + 2], shared_z)
+      << "the shared model was written";
   for (int g = 0; g < a.model()->ngeom; ++g) {
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(a.data()->geom_xpos[3 * g + k], b.data()->geom_xpos[3 * g + k]);
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(a.data()->geom_xpos[3 * g + k], b.data()->geom_xpos[3 * g + k]);
     ASSERT_EQ(a.model()->geom_contype[g], b.model()->geom_contype[g]);
   }
   // Exactly the six obstacles collide and are visible.
   int enabled = 0;
   for (const ObstacleSlot& s : scene->obstacle_slots()) {
-    for (int g : s.geoms) enabled += a.model()->geom_contype[g] != 0 && a.model()->geom_group[g] == 0;
+    for (int g : s.geoms)
+      enabled += a.model()->geom_contype[g] != 0 && a.model()->geom_group[g] == 0;
   }
   EXPECT_EQ(enabled, 6);
 }
@@ -81,7 +88,8 @@ TEST_P(LayoutsInEveryScene, ObstaclesReachEveryRegionTheTableTopIncluded) {
   ASSERT_GE(regions.size(), 2u);
   std::vector<int> per_region(regions.size(), 0);
   for (std::uint64_t seed = 0; seed < 50; ++seed) {
-    for (const auto& o : core::generate_layout(scene->layout_request(10), seed).obstacles) ++per_region[o.region];
+    for (const auto& o : core::generate_layout(scene->layout_request(10), seed).obstacles)
+      ++per_region[o.region];
   }
   for (size_t r = 0; r < regions.size(); ++r) {
     EXPECT_GE(per_region[r], 5) << "region " << regions[r].name << " never gets obstacles";
@@ -97,7 +105,8 @@ TEST_P(LayoutsInEveryScene, MoreObstaclesThanSlotsIsAnError) {
   EXPECT_THROW(worker.apply_layout(layout), core::LayoutError);
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, LayoutsInEveryScene, ::testing::ValuesIn(test::all_robot_environment_pairs()),
+INSTANTIATE_TEST_SUITE_P(Models, LayoutsInEveryScene,
+                         ::testing::ValuesIn(test::all_robot_environment_pairs()),
                          [](const auto& p) { return test::pair_name(p.param); });
 
 }  // namespace

@@ -22,7 +22,8 @@ TEST_P(RenderEveryScene, RobotIsVisibleInTheOverview) {
   OffscreenRenderer renderer(scene->model(), 320, 240);
   CameraView view;
   ASSERT_FALSE(scene->environment().cameras.empty());
-  view.fixed_camera = mj_name2id(scene->model(), mjOBJ_CAMERA, scene->environment().cameras[0].c_str());
+  view.fixed_camera =
+      mj_name2id(scene->model(), mjOBJ_CAMERA, scene->environment().cameras[0].c_str());
   const RgbImage with_robot = renderer.render_rgb(worker.model(), worker.data(), view);
   for (int g = 0; g < worker.model()->ngeom; ++g) {
     if (scene->is_robot_geom(g)) worker.model()->geom_rgba[4 * g + 3] = 0;  // invisible
@@ -32,7 +33,8 @@ TEST_P(RenderEveryScene, RobotIsVisibleInTheOverview) {
   int changed = 0;
   for (size_t p = 0; p < with_robot.pixels.size(); p += 3) {
     int diff = 0;
-    for (int k = 0; k < 3; ++k) diff += std::abs(with_robot.pixels[p + k] - without_robot.pixels[p + k]);
+    for (int k = 0; k < 3; ++k)
+      diff += std::abs(with_robot.pixels[p + k] - without_robot.pixels[p + k]);
     changed += diff > 30;
   }
   const double share = changed / (320.0 * 240.0);
@@ -40,8 +42,9 @@ TEST_P(RenderEveryScene, RobotIsVisibleInTheOverview) {
   // Not a blank image either.
   int distinct_rows = 0;
   for (int y = 1; y < 240; ++y) {
-    distinct_rows += !std::equal(with_robot.pixels.begin() + (y - 1) * 960, with_robot.pixels.begin() + y * 960,
-                                 with_robot.pixels.begin() + y * 960);
+    distinct_rows +=
+        !std::equal(with_robot.pixels.begin() + (y - 1) * 960, with_robot.pixels.begin() + y * 960,
+                    with_robot.pixels.begin() + y * 960);
   }
   EXPECT_GT(distinct_rows, 100);
 }
@@ -69,7 +72,8 @@ TEST_P(RenderEveryScene, HeadCameraDepthSeesTheRoom) {
   EXPECT_GT(hi - lo, 0.5) << "depth does not vary";
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, RenderEveryScene, ::testing::ValuesIn(test::all_robot_environment_pairs()),
+INSTANTIATE_TEST_SUITE_P(Models, RenderEveryScene,
+                         ::testing::ValuesIn(test::all_robot_environment_pairs()),
                          [](const auto& p) { return test::pair_name(p.param); });
 
 TEST(OffscreenRenderer, RejectsASizeBeyondTheOffscreenBuffer) {

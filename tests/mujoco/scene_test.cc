@@ -76,7 +76,8 @@ TEST_P(EveryRobotInEveryEnvironment, ProfileMatchesTheModel) {
       EXPECT_TRUE(scene->is_robot_body(m->jnt_bodyid[c.joints[i]]));
     }
   }
-  EXPECT_EQ(static_cast<int>(seen.size()), robot_joints) << "every robot joint is in exactly one chain";
+  EXPECT_EQ(static_cast<int>(seen.size()), robot_joints)
+      << "every robot joint is in exactly one chain";
   // Arms as the issue asks: tall 7 DOF, compact 5 or 6; fingers with two segments each.
   const size_t arm_dof = scene->chain("left_arm").joints.size();
   EXPECT_EQ(arm_dof, scene->chain("right_arm").joints.size());
@@ -115,7 +116,8 @@ TEST(Robots, TheTwoHumanoidsDifferAsInThePaper) {
   // Different names: no joint name is shared.
   for (const ChainIndex& c : tall->chains()) {
     for (int j : c.joints) {
-      EXPECT_LT(mj_name2id(compact->model(), mjOBJ_JOINT, mj_id2name(tall->model(), mjOBJ_JOINT, j)), 0);
+      EXPECT_LT(
+          mj_name2id(compact->model(), mjOBJ_JOINT, mj_id2name(tall->model(), mjOBJ_JOINT, j)), 0);
     }
   }
 }
@@ -128,7 +130,8 @@ TEST(Robots, EveryJointHasAPositionActuatorWithItsRange) {
       for (size_t i = 0; i < c.joints.size(); ++i) {
         int found = 0;
         for (int a = 0; a < m->nu; ++a) {
-          if (m->actuator_trnid[2 * a] != c.joints[i] || m->actuator_trntype[a] != mjTRN_JOINT) continue;
+          if (m->actuator_trnid[2 * a] != c.joints[i] || m->actuator_trntype[a] != mjTRN_JOINT)
+            continue;
           ++found;
           EXPECT_EQ(m->actuator_biastype[a], mjBIAS_AFFINE) << robot << " position servo";
           EXPECT_GT(m->actuator_gainprm[a * mjNGAIN], 0) << robot;

@@ -66,8 +66,10 @@ TEST_F(UrdfTwin, PalmAndHeadCameraPosesAgreeAtRandomConfigurations) {
       }
     }
     const int cu = urdf->head_camera(), cm = mjcf->head_camera();
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(wu.data()->cam_xpos[3 * cu + k], wm.data()->cam_xpos[3 * cm + k], 1e-9);
-    for (int k = 0; k < 9; ++k) EXPECT_NEAR(wu.data()->cam_xmat[9 * cu + k], wm.data()->cam_xmat[9 * cm + k], 1e-6);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(wu.data()->cam_xpos[3 * cu + k], wm.data()->cam_xpos[3 * cm + k], 1e-9);
+    for (int k = 0; k < 9; ++k)
+      EXPECT_NEAR(wu.data()->cam_xmat[9 * cu + k], wm.data()->cam_xmat[9 * cm + k], 1e-6);
   }
 }
 
@@ -75,7 +77,8 @@ TEST_F(UrdfTwin, ImporterAddsAnActuatorPerJointAndTheCamera) {
   const std::string mjcf_text = import_urdf_as_mjcf(urdf->robot());
   EXPECT_NE(mjcf_text.find("<camera name=\"HeadCam\""), std::string::npos);
   size_t actuators = 0;
-  for (size_t at = 0; (at = mjcf_text.find("<position ", at)) != std::string::npos; ++at) ++actuators;
+  for (size_t at = 0; (at = mjcf_text.find("<position ", at)) != std::string::npos; ++at)
+    ++actuators;
   size_t joints = 0;
   for (const ChainIndex& c : urdf->chains()) joints += c.joints.size();
   EXPECT_EQ(actuators, joints);
