@@ -44,7 +44,8 @@ struct Fixture {
     for (int k = 0; k < 4096; ++k) {
       std::vector<double> q(all_joints.size()), qa(arm_joints.size());
       for (size_t i = 0; i < q.size(); ++i) q[i] = lo[i] + (hi[i] - lo[i]) * u(rng);
-      for (size_t i = 0; i < qa.size(); ++i) qa[i] = arm.lower[i] + (arm.upper[i] - arm.lower[i]) * u(rng);
+      for (size_t i = 0; i < qa.size(); ++i)
+        qa[i] = arm.lower[i] + (arm.upper[i] - arm.lower[i]) * u(rng);
       all_configs.push_back(q);
       arm_configs.push_back(qa);
     }
@@ -68,10 +69,12 @@ void BM_ValidityCheck_Raw(benchmark::State& state) {
   int64_t collisions = 0;
   for (auto _ : state) {
     const std::vector<double>& q = configs[k++ % configs.size()];
-    for (size_t i = 0; i < q.size(); ++i) worker.data()->qpos[worker.model()->jnt_qposadr[joints[i]]] = q[i];
+    for (size_t i = 0; i < q.size(); ++i)
+      worker.data()->qpos[worker.model()->jnt_qposadr[joints[i]]] = q[i];
     collisions += mujoco::raw_robot_in_collision(*f.scene, worker.model(), worker.data());
   }
-  state.counters["in_collision"] = benchmark::Counter(static_cast<double>(collisions) / state.iterations());
+  state.counters["in_collision"] =
+      benchmark::Counter(static_cast<double>(collisions) / state.iterations());
 }
 BENCHMARK(BM_ValidityCheck_Raw)->Arg(0)->Arg(1)->ArgName("arm_only")->Unit(benchmark::kMicrosecond);
 
@@ -87,8 +90,13 @@ void BM_ValidityCheck_Skillset(benchmark::State& state) {
   size_t k = 0;
   int64_t collisions = 0;
   for (auto _ : state) collisions += checker.in_collision(configs[k++ % configs.size()].data());
-  state.counters["in_collision"] = benchmark::Counter(static_cast<double>(collisions) / state.iterations());
+  state.counters["in_collision"] =
+      benchmark::Counter(static_cast<double>(collisions) / state.iterations());
 }
-BENCHMARK(BM_ValidityCheck_Skillset)->Arg(0)->Arg(1)->ArgName("arm_only")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ValidityCheck_Skillset)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgName("arm_only")
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -1,5 +1,7 @@
 // The `taskmatrix` command line. Verbs: list, render, scenes (more come with the scenario
 // runner). Every failure is one line on stderr and a non-zero exit status.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -20,7 +22,7 @@ using taskmatrix::harness::ModelCatalog;
 
 struct RenderOptions {
   std::string robot, environment, camera, posture = "rest", out;
-  std::uint64_t seed = 1;
+  long long seed = 1;
   int obstacles = 8;
   int width = 960, height = 720;
   bool depth = false;
@@ -30,8 +32,7 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   namespace mj = taskmatrix::mujoco;
   auto scene = mj::Scene::load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
   mj::WorkerScene worker(scene);
-  worker.apply_layout(
-      taskmatrix::core::generate_layout(scene->layout_request(o.obstacles), o.seed));
+  worker.apply_layout(scene->make_layout(o.obstacles, static_cast<std::uint64_t>(o.seed)));
   std::vector<double> qpos = scene->start_qpos();
   try {
     scene->apply_posture(o.posture, qpos.data());
@@ -60,12 +61,20 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   if (o.depth) {
     const mj::DepthImage depth = renderer.render_depth(worker.model(), worker.data(), view);
     mj::write_depth_png(o.out, depth);
+    float near = INFINITY, far = 0;
+    for (float v : depth.metres) {
+      if (std::isfinite(v)) {
+        near = std::min(near, v);
+        far = std::max(far, v);
+      }
+    }
+    std::printf("depth %.3f..%.3f m (grey 255..40)\n", near, far);
   } else {
     mj::write_png(o.out, renderer.render_rgb(worker.model(), worker.data(), view));
   }
-  std::printf("%s: %s in %s, seed %llu, %d obstacles, camera %s%s\n", o.out.c_str(),
-              o.robot.c_str(), o.environment.c_str(), static_cast<unsigned long long>(o.seed),
-              o.obstacles, camera.c_str(), o.depth ? " (depth)" : "");
+  std::printf("%s: %s in %s, seed %lld, %d obstacles, camera %s%s\n", o.out.c_str(),
+              o.robot.c_str(), o.environment.c_str(), o.seed, o.obstacles, camera.c_str(),
+              o.depth ? " (depth)" : "");
   return 0;
 }
 
@@ -87,7 +96,13 @@ int main(int argc, char** argv) {
       app.add_subcommand("render", "Render a robot in an environment to PNG (OSMesa)");
   render->add_option("--robot", render_options.robot, "robot name")->required();
   render->add_option("--env", render_options.environment, "environment name")->required();
-  render->add_option("--seed", render_options.seed, "obstacle layout seed")->capture_default_str();
+  render->add_option("--seed", render_options.seed, "obstacle layout seed")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return v.find('-') == std::string::npos ? "" : "must not be negative";
+          },
+          "SEED >= 0"))
+      ->capture_default_str();
   render->add_option("--obstacles", render_options.obstacles, "number of random obstacles")
       ->check(CLI::Range(0, 200))
       ->capture_default_str();
@@ -119,8 +134,15 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string what = e.what();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    std::cerr << "taskmatrix: error: " << what << " (see taskmatrix --help)\n";
+    return 2;
   }
 
   try {

@@ -47,8 +47,7 @@ int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
       head.fixed_camera = scene->head_camera();
       for (int seed = 1; seed <= options.seeds; ++seed) {
         const auto t_layout = std::chrono::steady_clock::now();
-        const core::ObstacleLayout layout =
-            core::generate_layout(scene->layout_request(options.obstacles), seed);
+        const core::ObstacleLayout layout = scene->make_layout(options.obstacles, seed);
         worker.apply_layout(layout);
         worker.reset_to_start();
         const double layout_us = seconds_since(t_layout) * 1e6;

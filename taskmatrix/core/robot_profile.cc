@@ -66,6 +66,10 @@ void validate_profile_structure(const RobotProfile& p) {
       }
     }
   }
+  for (const char* side : {"left", "right"}) {
+    if (!p.find_hand(side))
+      throw InputError(file, "hands", std::string("missing the ") + side + " hand");
+  }
   std::set<std::string> sides;
   for (const HandSpec& h : p.hands) {
     const std::string key = "hands." + h.side;

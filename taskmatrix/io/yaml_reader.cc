@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "taskmatrix/core/input_error.h"
@@ -70,10 +71,23 @@ std::optional<YamlNode> YamlNode::optional(std::string_view child_key) const {
   return required(child_key);
 }
 
+std::string YamlNode::key_text(const YAML::Node& key) const {
+  if (!key.IsScalar()) {
+    throw InputError(*file_, key_, "keys must be plain names",
+                     key.Mark().line >= 0 ? key.Mark().line + 1 : line());
+  }
+  return key.Scalar();
+}
+
 void YamlNode::expect_keys(std::initializer_list<std::string_view> allowed) const {
   if (!node_.IsMap()) fail("must be a mapping");
+  std::set<std::string> seen;
   for (const auto& kv : node_) {
-    const std::string k = kv.first.as<std::string>();
+    const std::string k = key_text(kv.first);
+    if (!seen.insert(k).second) {
+      throw InputError(*file_, key_.empty() ? k : key_ + "." + k, "appears twice",
+                       kv.first.Mark().line >= 0 ? kv.first.Mark().line + 1 : line());
+    }
     bool known = false;
     for (std::string_view a : allowed) known = known || a == k;
     if (!known) {
@@ -89,8 +103,13 @@ void YamlNode::expect_keys(std::initializer_list<std::string_view> allowed) cons
 std::vector<std::pair<std::string, YamlNode>> YamlNode::entries() const {
   if (!node_.IsMap()) fail("must be a mapping");
   std::vector<std::pair<std::string, YamlNode>> out;
+  std::set<std::string> seen;
   for (const auto& kv : node_) {
-    const std::string k = kv.first.as<std::string>();
+    const std::string k = key_text(kv.first);
+    if (!seen.insert(k).second) {
+      throw InputError(*file_, key_.empty() ? k : key_ + "." + k, "appears twice",
+                       kv.first.Mark().line >= 0 ? kv.first.Mark().line + 1 : line());
+    }
     out.emplace_back(k, child(kv.second, k));
   }
   return out;

@@ -59,6 +59,7 @@ class YamlNode {
  private:
   YamlNode(YAML::Node node, std::shared_ptr<const std::string> file, std::string key);
   YamlNode child(const YAML::Node& node, const std::string& child_key) const;
+  std::string key_text(const YAML::Node& key) const;
 
   YAML::Node node_;
   std::shared_ptr<const std::string> file_;

@@ -44,8 +44,9 @@ void WorkerScene::apply_layout(const core::ObstacleLayout& layout) {
     for (int k = 0; k < 3; ++k) {
       const int g = slot.geoms[k];
       const bool active = o && static_cast<int>(o->shape) == k;
-      m->geom_contype[g] = active ? 1 : 0;
-      m->geom_conaffinity[g] = active ? 1 : 0;
+      // All bits: an obstacle collides with whatever collision bits a robot uses.
+      m->geom_contype[g] = active ? -1 : 0;
+      m->geom_conaffinity[g] = active ? -1 : 0;
       m->geom_group[g] = active ? 0 : kHiddenGroup;
       if (!active) continue;
       for (int i = 0; i < 3; ++i) {

@@ -42,6 +42,11 @@ struct VfsDeleter {
 
 }  // namespace
 
+std::recursive_mutex& mujoco_loader_mutex() {
+  static std::recursive_mutex mutex;
+  return mutex;
+}
+
 void install_mujoco_error_handlers() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -61,6 +66,7 @@ ModelPtr compile_mjcf_text(const std::string& xml, const std::string& label) {
   const int index = mj_findFileVFS(vfs.get(), name);
   std::memcpy(vfs->filedata[index], xml.data(), xml.size());
   char error[1024] = "";
+  std::lock_guard<std::recursive_mutex> lock(mujoco_loader_mutex());
   mjModel* m = mj_loadXML(name, vfs.get(), error, sizeof error);
   if (!m) throw InputError(label, "", "MuJoCo cannot compile the model: " + one_line(error));
   if (error[0] != '\0') {
@@ -73,6 +79,7 @@ ModelPtr compile_mjcf_text(const std::string& xml, const std::string& label) {
 ModelPtr compile_file(const std::string& path) {
   install_mujoco_error_handlers();
   char error[1024] = "";
+  std::lock_guard<std::recursive_mutex> lock(mujoco_loader_mutex());
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
   if (!m) throw InputError(path, "", "MuJoCo cannot compile the model: " + one_line(error));
   if (error[0] != '\0') {

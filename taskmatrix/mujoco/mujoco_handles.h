@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include <mujoco/mujoco.h>
@@ -24,6 +25,10 @@ ModelPtr compile_mjcf_text(const std::string& xml, const std::string& label);
 
 // Compiles a file (MJCF or URDF) from disk. Throws core::InputError naming `path`.
 ModelPtr compile_file(const std::string& path);
+
+// MuJoCo's XML loader keeps process-global state (the last loaded model, which
+// mj_saveLastXML writes): every load and save holds this lock.
+std::recursive_mutex& mujoco_loader_mutex();
 
 ModelPtr copy_model(const mjModel* m);
 DataPtr make_data(const mjModel* m);

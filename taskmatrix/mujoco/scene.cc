@@ -75,7 +75,16 @@ void Scene::index_and_validate() {
   const std::string efile = environment_.spec_file.string();
   const std::string mfile = robot_.model_file.string();
 
-  // Chains: hinge or slide joints, limited with finite ranges, all on one robot tree.
+  // The robot's tree: the top-level body above the first base joint.
+  const core::ChainSpec* base_spec = robot_.find_chain("base");
+  const int base_joint = mj_name2id(m, mjOBJ_JOINT, base_spec->joints[0].c_str());
+  if (base_joint < 0) {
+    throw InputError(pfile, "chains.base.joints",
+                     "joint '" + base_spec->joints[0] + "' is not in " + mfile);
+  }
+  robot_root_ = m->body_rootid[m->jnt_bodyid[base_joint]];
+
+  // Chains: hinge or slide joints of the robot, limited with finite ranges.
   for (const core::ChainSpec& spec : robot_.chains) {
     ChainIndex chain;
     chain.name = spec.name;
@@ -85,6 +94,9 @@ void Scene::index_and_validate() {
       if (j < 0) throw InputError(pfile, key, "joint '" + name + "' is not in " + mfile);
       if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) {
         throw InputError(pfile, key, "joint '" + name + "' must be a hinge or slide joint");
+      }
+      if (!is_robot_body(m->jnt_bodyid[j])) {
+        throw InputError(pfile, key, "joint '" + name + "' is not on the robot's body tree");
       }
       const double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
       if (!m->jnt_limited[j] || !std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi)) {
@@ -107,7 +119,6 @@ void Scene::index_and_validate() {
     throw InputError(pfile, "chains.base.joints",
                      "must be a slide joint along x, a slide joint along y and a hinge about z");
   }
-  robot_root_ = m->body_rootid[m->jnt_bodyid[bx]];
 
   // Every robot joint belongs to a chain, and has a position actuator.
   for (int j = 0; j < m->njnt; ++j) {
@@ -183,14 +194,22 @@ void Scene::index_and_validate() {
   // Environment names.
   DataPtr d = make_data(m);
   mj_forward(m, d.get());
-  auto footprint_of_body = [&](int body) {
+  // Footprint of a body and its descendants (the bounding spheres of their geoms).
+  auto footprint_of_body = [&](int body, const std::string& key) {
     core::Rect2 r{1e9, -1e9, 1e9, -1e9};
+    bool any = false;
     for (int g = 0; g < m->ngeom; ++g) {
-      if (m->geom_bodyid[g] != body) continue;
+      int b = m->geom_bodyid[g];
+      while (b > 0 && b != body) b = m->body_parentid[b];
+      if (b != body) continue;
+      any = true;
       const double x = d->geom_xpos[3 * g], y = d->geom_xpos[3 * g + 1], rb = m->geom_rbound[g];
       r = {std::min(r.x_min, x - rb), std::max(r.x_max, x + rb), std::min(r.y_min, y - rb),
            std::max(r.y_max, y + rb)};
     }
+    if (!any)
+      throw InputError(efile, key,
+                       "body '" + std::string(mj_id2name(m, mjOBJ_BODY, body)) + "' has no geoms");
     return r;
   };
   for (const auto& [obj_name, obj] : environment_.objects) {
@@ -201,7 +220,7 @@ void Scene::index_and_validate() {
                          "body '" + body + "' is not in " + environment_.model_file.string());
       }
       if (obj.kind != core::ObjectKind::kSurface)
-        object_footprints_.push_back(footprint_of_body(b));
+        object_footprints_.push_back(footprint_of_body(b, "objects." + obj_name));
     }
     for (const std::string* site : {&obj.tip_site, &obj.grip_site}) {
       if (!site->empty() && mj_name2id(m, mjOBJ_SITE, site->c_str()) < 0) {
@@ -215,7 +234,7 @@ void Scene::index_and_validate() {
     if (b < 0)
       throw InputError(efile, "visitor.body",
                        "body '" + environment_.visitor.body + "' is missing");
-    object_footprints_.push_back(footprint_of_body(b));
+    object_footprints_.push_back(footprint_of_body(b, "visitor.body"));
   }
   for (const std::string& cam : environment_.cameras) {
     if (mj_name2id(m, mjOBJ_CAMERA, cam.c_str()) < 0) {
@@ -289,6 +308,15 @@ core::LayoutRequest Scene::layout_request(int count) const {
   req.protected_rects.insert(req.protected_rects.end(), object_footprints_.begin(),
                              object_footprints_.end());
   return req;
+}
+
+core::ObstacleLayout Scene::make_layout(int count, std::uint64_t seed) const {
+  const core::LayoutRequest request = layout_request(count);
+  try {
+    return core::generate_layout(request, seed);
+  } catch (const core::LayoutError& e) {
+    throw InputError(environment_.spec_file.string(), "obstacle_regions", e.what());
+  }
 }
 
 // ---------------------------------------------------------------------------------------

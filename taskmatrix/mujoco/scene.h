@@ -73,6 +73,9 @@ class Scene {
   // disk, keep-out rectangles and the footprints of task objects and the visitor protected.
   // Throws core::InputError when `count` exceeds the environment's obstacle_slots.
   core::LayoutRequest layout_request(int count) const;
+  // generate_layout(layout_request(count), seed), with a failure reported as an InputError
+  // naming the environment file's obstacle_regions.
+  core::ObstacleLayout make_layout(int count, std::uint64_t seed) const;
 
  private:
   Scene() = default;

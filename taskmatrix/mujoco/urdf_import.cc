@@ -84,17 +84,19 @@ void validate_urdf(const core::RobotProfile& profile, const std::string& text) {
 
 // mj_saveLastXML writes the model MuJoCo last parsed to a file: serialize with a lock.
 std::string compile_and_save(const core::RobotProfile& profile) {
-  static std::mutex mutex;
-  std::lock_guard<std::mutex> lock(mutex);
+  std::lock_guard<std::recursive_mutex> lock(mujoco_loader_mutex());
   ModelPtr model = compile_file(profile.model_file.string());
   char tmpl[] = "/tmp/taskmatrix_urdf_XXXXXX";
   const int fd = mkstemp(tmpl);
   if (fd < 0) throw InputError(profile.model_file.string(), "", "cannot create a temporary file");
   close(fd);
+  struct Remove {
+    const char* path;
+    ~Remove() { std::filesystem::remove(path); }
+  } remove_later{tmpl};
   char error[512] = "";
   const int ok = mj_saveLastXML(tmpl, model.get(), error, sizeof error);
   std::string text = ok ? read_text(tmpl) : std::string();
-  std::filesystem::remove(tmpl);
   if (!ok) {
     throw InputError(profile.model_file.string(), "",
                      std::string("MuJoCo cannot save it: ") + error);
@@ -167,7 +169,8 @@ std::string import_urdf_as_mjcf(const core::RobotProfile& profile) {
     const char* name = j->Attribute("name");
     const char* range = j->Attribute("range");
     if (!name || !range) {
-      throw InputError(file, "joint", "every joint needs a name and limits to get an actuator");
+      throw InputError(file, std::string("joint[") + (name ? name : "?") + "]",
+                       "needs a name and limits (<limit lower upper>) to get a position actuator");
     }
     const auto it = kp_of_joint.find(name);
     tinyxml2::XMLElement* act = doc.NewElement("position");

@@ -10,7 +10,8 @@ namespace {
 
 bool robot_contact(const Scene& scene, const mjData* d) {
   for (int i = 0; i < d->ncon; ++i) {
-    if (scene.is_robot_geom(d->contact[i].geom1) || scene.is_robot_geom(d->contact[i].geom2)) return true;
+    if (scene.is_robot_geom(d->contact[i].geom1) || scene.is_robot_geom(d->contact[i].geom2))
+      return true;
   }
   return false;
 }
@@ -44,12 +45,14 @@ bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d) {
 ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d,
                                  const std::vector<int>& moving_joints)
     : scene_(scene), m_(m), d_(d), joints_(moving_joints) {
-  if (m->npair > 0) throw std::invalid_argument("models with explicit <contact><pair> are not supported");
+  if (m->npair > 0)
+    throw std::invalid_argument("models with explicit <contact><pair> are not supported");
   std::vector<char> moving(m->nbody, 0);
   for (int j : joints_) {
     if (j < 0 || j >= m->njnt || (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) ||
         !scene.is_robot_body(m->jnt_bodyid[j])) {
-      throw std::invalid_argument("joint id " + std::to_string(j) + " is not a hinge or slide joint of the robot");
+      throw std::invalid_argument("joint id " + std::to_string(j) +
+                                  " is not a hinge or slide joint of the robot");
     }
     qpos_adr_.push_back(m->jnt_qposadr[j]);
     moving[m->jnt_bodyid[j]] = 1;
@@ -76,7 +79,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
   // Candidate pairs: at least one robot geom, not filtered by bodies or excludes, and able to
   // collide now or later (obstacle slots change their contype per layout: test at query time).
   std::set<int> slot_geoms;
-  for (const ObstacleSlot& s : scene.obstacle_slots()) slot_geoms.insert(s.geoms.begin(), s.geoms.end());
+  for (const ObstacleSlot& s : scene.obstacle_slots())
+    slot_geoms.insert(s.geoms.begin(), s.geoms.end());
   auto can_ever_collide = [&](int g) {
     return slot_geoms.count(g) || m->geom_contype[g] || m->geom_conaffinity[g];
   };
@@ -101,7 +105,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
 bool ValidityChecker::pair_in_contact(const Pair& p) {
   const mjModel* m = m_;
   const int g1 = p.g1, g2 = p.g2;
-  if (!((m->geom_contype[g1] & m->geom_conaffinity[g2]) || (m->geom_contype[g2] & m->geom_conaffinity[g1]))) {
+  if (!((m->geom_contype[g1] & m->geom_conaffinity[g2]) ||
+        (m->geom_contype[g2] & m->geom_conaffinity[g1]))) {
     return false;
   }
   // Bounding spheres, as mj_collideGeoms does (planes have rbound 0 and skip this).

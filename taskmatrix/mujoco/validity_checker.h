@@ -29,7 +29,8 @@ class ValidityChecker {
   // `moving_joints`: MuJoCo joint ids the queries may change (hinge or slide robot joints).
   // Binds to the worker's current state (data->qpos): pairs that no moving joint can change
   // are evaluated once here, and the poses of bodies that do not move are taken from it.
-  ValidityChecker(const Scene& scene, const mjModel* m, mjData* d, const std::vector<int>& moving_joints);
+  ValidityChecker(const Scene& scene, const mjModel* m, mjData* d,
+                  const std::vector<int>& moving_joints);
 
   // True if the pairs that cannot change are already in contact at the bound state: then
   // every configuration is invalid (a start in collision with itself or the world).

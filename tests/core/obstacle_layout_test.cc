@@ -31,6 +31,49 @@ TEST(ObstacleLayout, SameSeedGivesTheSameLayoutBitForBit) {
   }
 }
 
+// Pinned values: the generator must give these on every platform and build. A change here
+// changes every stored benchmark layout; if it is deliberate, say so in the release notes.
+TEST(ObstacleLayout, GoldenLayoutForSeedSeven) {
+  LayoutRequest req;
+  req.count = 3;
+  req.regions = {{"floor", -2.0, 3.0, -2.0, 2.0, 0.0, {}},
+                 {"table", 0.3, 0.9, -0.6, 0.6, 0.65, {}}};
+  req.protected_disks = {{0.0, 0.0, 0.6}};
+  const ObstacleLayout l = generate_layout(req, 7);
+  ASSERT_EQ(l.obstacles.size(), 3u);
+  EXPECT_EQ(l.obstacles[0].shape, ObstacleShape::kSphere);
+  EXPECT_DOUBLE_EQ(l.obstacles[0].position.x(), 2.129766192744865);
+  EXPECT_DOUBLE_EQ(l.obstacles[0].position.y(), 1.5632572065226138);
+  EXPECT_DOUBLE_EQ(l.obstacles[0].size.x(), 0.049393142482761443);
+  EXPECT_EQ(l.obstacles[2].shape, ObstacleShape::kBox);
+  EXPECT_DOUBLE_EQ(l.obstacles[2].position.x(), 0.5003135336137996);
+  EXPECT_DOUBLE_EQ(l.obstacles[2].position.y(), -1.8360956582221453);
+  EXPECT_DOUBLE_EQ(l.obstacles[2].position.z(), 0.2167411830428817);
+  EXPECT_DOUBLE_EQ(l.obstacles[2].yaw, 0.89302912057857409);
+}
+
+TEST(ObstacleLayout, RegionKeepOutProtectsOnlyItsRegion) {
+  LayoutRequest req;
+  req.count = 30;
+  // Two regions with the same footprint: keep-out of the left half in the first only.
+  req.regions = {{"floor", 0.0, 2.0, 0.0, 2.0, 0.0, {{0.0, 1.0, 0.0, 2.0}}},
+                 {"shelf", 0.0, 2.0, 0.0, 2.0, 1.0, {}}};
+  req.footprint_min_m = 0.03;
+  req.footprint_max_m = 0.05;
+  int shelf_left = 0;
+  for (std::uint64_t seed = 0; seed < 200; ++seed) {
+    for (const PlacedObstacle& o : generate_layout(req, seed).obstacles) {
+      if (o.region == 0) {
+        ASSERT_GE(o.position.x() - o.footprint_radius, 1.0 + req.clearance_m - 1e-12)
+            << "seed " << seed;
+      } else {
+        shelf_left += o.position.x() < 1.0;
+      }
+    }
+  }
+  EXPECT_GT(shelf_left, 100) << "the floor's keep-out must not protect the shelf";
+}
+
 TEST(ObstacleLayout, DifferentSeedsGiveDifferentLayouts) {
   const LayoutRequest req = crowded_room(5);
   EXPECT_NE(generate_layout(req, 1).obstacles[0].position,

@@ -118,6 +118,40 @@ std::vector<BadInputCase> cases() {
        "minibot",
        [](const ScratchRoot& r) { r.replace(kEnvSpec, "body: cup", "body: mug"); },
        {"environment.yaml", "objects.cup", "mug"}},
+      {"ProfileChainJointNotOnTheRobot",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "{joints: [HeadYaw]}", "{joints: [HeadYaw, visitor_x]}");
+         r.replace(kProfile, "    head:       [0]", "    head:       [0, 0.5]");
+       },
+       {"profile.yaml", "chains.head.joints", "visitor_x", "not on the robot"}},
+      {"ProfileDuplicateKey",
+       "minibot",
+       [](const ScratchRoot& r) { r.write(kProfile, r.read(kProfile) + "name: other\n"); },
+       {"profile.yaml:", "name: appears twice"}},
+      {"ProfileNonScalarKey",
+       "minibot",
+       [](const ScratchRoot& r) { r.write(kProfile, r.read(kProfile) + "? [a, b]\n: 1\n"); },
+       {"profile.yaml:", "keys must be plain names"}},
+      {"ProfileWithoutRightHand",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "  right:\n    palm: RPalm", "  other:\n    palm: RPalm");
+       },
+       {"profile.yaml", "hands"}},
+      {"EnvironmentKeepOutNamesNoRegion",
+       "minibot",
+       [](const ScratchRoot& r) { r.replace(kEnvSpec, "regions: [floor]", "regions: [ceiling]"); },
+       {"environment.yaml:", "keep_out[1].regions[0]: names no obstacle region"}},
+      {"EnvironmentRegionsTooSmallForTheObstacles",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kEnvSpec, "{name: floor, x: [1.15, 3.1], y: [-2.0, 2.0], z: 0.0}",
+                   "{name: floor, x: [1.15, 1.4], y: [-2.0, -1.8], z: 0.0}");
+         r.replace(kEnvSpec, "{name: table_top, x: [0.36, 0.94], y: [-0.54, 0.54], z: 0.65}",
+                   "{name: table_top, x: [0.36, 0.40], y: [-0.54, -0.50], z: 0.65}");
+       },
+       {"environment.yaml", "obstacle_regions", "could place only"}},
       {"EnvironmentAnglesDisagree",
        "minibot",
        [](const ScratchRoot& r) { r.replace(kEnvMjcf, "angle=\"radian\"", "angle=\"degree\""); },
@@ -135,6 +169,17 @@ TEST(BadInput, UnknownRobotListsTheKnownOnes) {
   EXPECT_NE(r.err.find("unknown robot 'nobody' (known: minibot, minibot_urdf, tallbot)"),
             std::string::npos)
       << r.err;
+}
+
+TEST(BadInput, CommandLineMistakesAreOneLineToo) {
+  for (const char* args :
+       {"list", "list planets", "render --robot minibot --env kitchen --seed -3 --out /tmp/n.png",
+        "render --robot minibot --env kitchen --obstacles 500 --out /tmp/n.png", "frobnicate"}) {
+    const CommandResult r = run_cli(args, TASKMATRIX_TEST_ROOT);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("taskmatrix: error: ", 0), 0u) << args << ": " << r.err;
+  }
 }
 
 TEST(Cli, ListPrintsOneNamePerLine) {

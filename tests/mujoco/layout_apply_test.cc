@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "taskmatrix/core/input_error.h"
@@ -49,6 +50,27 @@ TEST_P(LayoutsInEveryScene, ThousandSeedsNeverOverlapRobotObjectsOrVisitor) {
       ASSERT_FALSE(protected_bodies.count(m->geom_bodyid[other]))
           << "seed " << seed << ": obstacle touches "
           << mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[other]);
+    }
+    // MuJoCo does not report contacts between static bodies (furniture, debris, obstacles):
+    // check those footprints geometrically, against the environment file's rectangles and
+    // the protected bodies' geoms as compiled.
+    for (const core::PlacedObstacle& o : layout.obstacles) {
+      const double x = o.position.x(), y = o.position.y();
+      for (const core::Rect2& r : scene->environment().keep_out) {
+        ASSERT_GE(core::distance_to_rect(x, y, r), o.footprint_radius) << "seed " << seed;
+      }
+      for (const core::Rect2& r : scene->environment().obstacle_regions[o.region].keep_out) {
+        ASSERT_GE(core::distance_to_rect(x, y, r), o.footprint_radius) << "seed " << seed;
+      }
+      for (int g = 0; g < m->ngeom; ++g) {
+        int b = m->geom_bodyid[g];
+        while (b > 0 && !protected_bodies.count(b)) b = m->body_parentid[b];
+        if (b <= 0) continue;
+        const double* gp = worker.data()->geom_xpos + 3 * g;
+        ASSERT_GE(std::hypot(x - gp[0], y - gp[1]), o.footprint_radius + m->geom_rbound[g] - 1e-9)
+            << "seed " << seed << ": obstacle over "
+            << mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[g]);
+      }
     }
     placed += count;
   }

@@ -39,8 +39,8 @@ struct Sampler {
   }
 };
 
-void expect_identical_verdicts(const std::string& robot, const std::string& env, int obstacles, int samples,
-                               const std::vector<std::string>& chains) {
+void expect_identical_verdicts(const std::string& robot, const std::string& env, int obstacles,
+                               int samples, const std::vector<std::string>& chains) {
   auto scene = test::scene(robot, env);
   WorkerScene fast(scene), raw(scene);
   const core::ObstacleLayout layout = core::generate_layout(scene->layout_request(obstacles), 5);
@@ -55,9 +55,11 @@ void expect_identical_verdicts(const std::string& robot, const std::string& env,
   int collisions = 0;
   for (int s = 0; s < samples; ++s) {
     const std::vector<double> q = sampler.draw(rng);
-    for (size_t i = 0; i < q.size(); ++i) raw.data()->qpos[raw.model()->jnt_qposadr[sampler.joints[i]]] = q[i];
+    for (size_t i = 0; i < q.size(); ++i)
+      raw.data()->qpos[raw.model()->jnt_qposadr[sampler.joints[i]]] = q[i];
     const bool expected = raw_robot_in_collision(*scene, raw.model(), raw.data());
-    ASSERT_EQ(checker.in_collision(q.data()), expected) << robot << " in " << env << ", sample " << s;
+    ASSERT_EQ(checker.in_collision(q.data()), expected)
+        << robot << " in " << env << ", sample " << s;
     collisions += expected;
   }
   // Both verdicts occur often enough for the comparison to mean something.
@@ -66,13 +68,15 @@ void expect_identical_verdicts(const std::string& robot, const std::string& env,
 }
 
 TEST(ValidityChecker, SameVerdictsAsRawMuJoCoOn100kConfigurationsOfTheTallRobot) {
-  expect_identical_verdicts("tallbot", "kitchen", 20, 100000,
-                            {"base", "torso", "head", "left_arm", "right_arm", "left_hand", "right_hand"});
+  expect_identical_verdicts(
+      "tallbot", "kitchen", 20, 100000,
+      {"base", "torso", "head", "left_arm", "right_arm", "left_hand", "right_hand"});
 }
 
 TEST(ValidityChecker, SameVerdictsOnTheCompactRobotsAndTheOffice) {
   for (const char* robot : {"minibot", "minibot_urdf", "tallbot"}) {
-    expect_identical_verdicts(robot, "office", 20, 10000, {"torso", "left_arm", "right_arm", "left_hand"});
+    expect_identical_verdicts(robot, "office", 20, 10000,
+                              {"torso", "left_arm", "right_arm", "left_hand"});
   }
 }
 
@@ -82,11 +86,13 @@ TEST(ValidityChecker, ArmOnlyChecksSkipPairsThatCannotChange) {
   const ChainIndex& arm = scene->chain("left_arm");
   ValidityChecker arm_checker(*scene, worker.model(), worker.data(), arm.joints);
   std::vector<int> all;
-  for (const ChainIndex& c : scene->chains()) all.insert(all.end(), c.joints.begin(), c.joints.end());
+  for (const ChainIndex& c : scene->chains())
+    all.insert(all.end(), c.joints.begin(), c.joints.end());
   ValidityChecker all_checker(*scene, worker.model(), worker.data(), all);
   std::vector<double> q(arm.joints.size()), q_all(all.size());
   for (size_t i = 0; i < q.size(); ++i) q[i] = worker.data()->qpos[arm.qpos_adr[i]];
-  for (size_t i = 0; i < all.size(); ++i) q_all[i] = worker.data()->qpos[worker.model()->jnt_qposadr[all[i]]];
+  for (size_t i = 0; i < all.size(); ++i)
+    q_all[i] = worker.data()->qpos[worker.model()->jnt_qposadr[all[i]]];
   EXPECT_FALSE(arm_checker.in_collision(q.data()));
   EXPECT_FALSE(all_checker.in_collision(q_all.data()));
   EXPECT_EQ(arm_checker.checks(), 1u);
@@ -101,7 +107,8 @@ TEST(ValidityChecker, AStartInCollisionIsReportedAsStaticCollision) {
   // Walk the robot into the table: base x forward by 0.35 m.
   const ChainIndex& base = scene->chain("base");
   worker.data()->qpos[base.qpos_adr[0]] = 0.35;
-  ValidityChecker arm_checker(*scene, worker.model(), worker.data(), scene->chain("left_arm").joints);
+  ValidityChecker arm_checker(*scene, worker.model(), worker.data(),
+                              scene->chain("left_arm").joints);
   EXPECT_TRUE(arm_checker.static_collision());
   EXPECT_TRUE(raw_robot_in_collision(*scene, worker.model(), worker.data()));
 }
