@@ -1,0 +1,229 @@
+#include "taskmatrix/mujoco/motion_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "taskmatrix/mujoco/kinematics.h"
+#include "taskmatrix/mujoco/validity_checker.h"
+#include "tests/test_support.h"
+
+namespace taskmatrix::mujoco {
+namespace {
+
+// A collision-free configuration of `chain`, drawn with `seed`.
+std::vector<double> valid_sample(const Scene& scene, WorkerScene& worker, const ChainIndex& chain,
+                                 std::uint64_t seed) {
+  ValidityChecker checker(scene, worker.model(), worker.data(), chain.joints);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> q(chain.joints.size());
+  for (int attempt = 0; attempt < 10000; ++attempt) {
+    for (size_t i = 0; i < q.size(); ++i)
+      q[i] = chain.lower[i] + (chain.upper[i] - chain.lower[i]) * u(rng);
+    if (!checker.in_collision(q.data())) break;
+  }
+  worker.reset_to_start();
+  return q;
+}
+
+// Re-checks a path with the raw MuJoCo check at `per_segment` interpolated states.
+bool path_collision_free(const Scene& scene, WorkerScene& worker, const std::vector<int>& joints,
+                         const std::vector<std::vector<double>>& path, int per_segment) {
+  for (size_t k = 0; k + 1 < path.size(); ++k) {
+    for (int s = 0; s <= per_segment; ++s) {
+      const double t = static_cast<double>(s) / per_segment;
+      for (size_t i = 0; i < joints.size(); ++i) {
+        worker.data()->qpos[worker.model()->jnt_qposadr[joints[i]]] =
+            path[k][i] + t * (path[k + 1][i] - path[k][i]);
+      }
+      if (raw_robot_in_collision(scene, worker.model(), worker.data())) return false;
+    }
+  }
+  return true;
+}
+
+class PlanOnBothRobots : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PlanOnBothRobots, ArmPathsAreCollisionFreeAtTenTimesThePlanningResolution) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  worker.apply_layout(scene->make_layout(12, 3));
+  worker.reset_to_start();
+  const ChainIndex& arm = scene->chain("left_arm");
+  MotionPlanner planner(*scene, worker, arm.joints);
+  PlanOptions options;
+  options.time_limit_s = 10;
+  int solved = 0;
+  for (std::uint64_t k = 0; k < 5; ++k) {
+    const std::vector<double> goal = valid_sample(*scene, worker, arm, 100 + k);
+    options.seed = static_cast<std::uint32_t>(k + 1);
+    const core::PlanResult r = planner.plan({goal}, options);
+    ASSERT_NE(r.status, core::PlanStatus::kInvalidStart) << r.message;
+    if (!r.success()) continue;
+    ++solved;
+    EXPECT_GT(r.collision_checks, 0u);
+    EXPECT_GE(r.path.size(), 2u);
+    for (size_t i = 0; i < goal.size(); ++i) EXPECT_NEAR(r.path.back()[i], goal[i], 1e-9);
+    // The planner checks motions at 0.005 of the space's extent; re-check ten times finer.
+    double extent = 0;
+    for (size_t i = 0; i < arm.joints.size(); ++i)
+      extent += std::pow(arm.upper[i] - arm.lower[i], 2);
+    extent = std::sqrt(extent);
+    int per_segment_max = 1;
+    for (size_t s = 0; s + 1 < r.path.size(); ++s) {
+      double len = 0;
+      for (size_t i = 0; i < goal.size(); ++i) len += std::pow(r.path[s + 1][i] - r.path[s][i], 2);
+      per_segment_max = std::max(per_segment_max,
+                                 static_cast<int>(std::ceil(std::sqrt(len) / (0.0005 * extent))));
+    }
+    EXPECT_TRUE(path_collision_free(*scene, worker, arm.joints, r.path, per_segment_max));
+  }
+  EXPECT_GE(solved, 4) << "RRTConnect should solve nearly all arm problems within 10 s";
+}
+
+TEST_P(PlanOnBothRobots, SameSeedSamePathBitForBitWhateverRanBefore) {
+  auto scene = test::scene(GetParam(), "office");
+  WorkerScene worker(scene);
+  worker.apply_layout(scene->make_layout(10, 8));
+  worker.reset_to_start();
+  const ChainIndex& arm = scene->chain("right_arm");
+  const std::vector<double> goal = valid_sample(*scene, worker, arm, 7);
+  MotionPlanner planner(*scene, worker, arm.joints);
+  PlanOptions options;
+  options.seed = 42;
+  const core::PlanResult first = planner.plan({goal}, options);
+  options.seed = 43;
+  planner.plan({goal}, options);  // something else in between
+  options.planner.name = "KPIECE1";
+  planner.plan({goal}, options);
+  options.planner.name = "RRTConnect";
+  options.seed = 42;
+  const core::PlanResult again = planner.plan({goal}, options);
+  ASSERT_TRUE(first.success()) << first.message;
+  ASSERT_EQ(first.path, again.path);
+  EXPECT_EQ(first.collision_checks, again.collision_checks);
+}
+
+TEST_P(PlanOnBothRobots, InvalidStartInvalidGoalAndBadInputAreNamedAsSuch) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  const ChainIndex& arm = scene->chain("left_arm");
+  MotionPlanner planner(*scene, worker, arm.joints);
+  PlanOptions options;
+  options.time_limit_s = 1;
+  const std::vector<double> goal = valid_sample(*scene, worker, arm, 5);
+
+  // Goal in collision: the arm folded into the table is found by sampling colliding states.
+  ValidityChecker checker(*scene, worker.model(), worker.data(), arm.joints);
+  std::vector<double> colliding(arm.joints.size());
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  do {
+    for (size_t i = 0; i < colliding.size(); ++i)
+      colliding[i] = arm.lower[i] + (arm.upper[i] - arm.lower[i]) * u(rng);
+  } while (!checker.in_collision(colliding.data()));
+  worker.reset_to_start();
+  EXPECT_EQ(planner.plan({colliding}, options).status, core::PlanStatus::kInvalidGoal);
+
+  std::vector<double> outside = goal;
+  outside[0] = arm.upper[0] + 0.5;
+  EXPECT_EQ(planner.plan({outside}, options).status, core::PlanStatus::kInvalidGoal);
+
+  std::vector<double> nan_goal = goal;
+  nan_goal[1] = std::nan("");
+  EXPECT_EQ(planner.plan({nan_goal}, options).status, core::PlanStatus::kInvalidInput);
+  EXPECT_EQ(planner.plan({std::vector<double>(2, 0.0)}, options).status,
+            core::PlanStatus::kInvalidInput);
+  options.planner.name = "NoSuchPlanner";
+  EXPECT_EQ(planner.plan({goal}, options).status, core::PlanStatus::kInvalidInput);
+  options.planner = {"RRTConnect", {{"no_such_param", "1"}}};
+  EXPECT_EQ(planner.plan({goal}, options).status, core::PlanStatus::kInvalidInput);
+
+  // Start in collision: the robot walked into the table.
+  options.planner = {};
+  worker.data()->qpos[scene->chain("base").qpos_adr[0]] = 0.4;
+  const core::PlanResult r = planner.plan({goal}, options);
+  EXPECT_EQ(r.status, core::PlanStatus::kInvalidStart) << r.message;
+}
+
+TEST_P(PlanOnBothRobots, EveryPlannerByNameSolvesAnOpenArmProblem) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  const ChainIndex& arm = scene->chain("left_arm");
+  // A goal near the rest posture: the shoulder lifted a little.
+  std::vector<double> goal(arm.joints.size());
+  for (size_t i = 0; i < goal.size(); ++i) goal[i] = worker.data()->qpos[arm.qpos_adr[i]];
+  goal[0] = std::clamp(goal[0] + 0.4 * (arm.upper[0] > 0.5 ? 1 : -1), arm.lower[0], arm.upper[0]);
+  MotionPlanner planner(*scene, worker, arm.joints);
+  for (const std::string& name : planner_names()) {
+    PlanOptions options;
+    options.planner.name = name;
+    options.time_limit_s = 2;
+    const core::PlanResult r = planner.plan({goal}, options);
+    EXPECT_TRUE(r.success()) << name << ": " << core::to_string(r.status) << " " << r.message;
+    EXPECT_LE(r.planning_time_s, 2.5) << name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, PlanOnBothRobots, ::testing::Values("tallbot", "minibot"));
+
+class IkOnBothRobots : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(IkOnBothRobots, ReachesSampledPalmPosesWithinOneMillimetreAndOneDegree) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  const ChainIndex& arm = scene->chain("right_arm");
+  const std::string palm = scene->robot().find_hand("right")->palm;
+  const FrameRef frame = scene->frame(palm);
+  int solved = 0;
+  const int trials = 20;
+  for (int k = 0; k < trials; ++k) {
+    const std::vector<double> q = valid_sample(*scene, worker, arm, 500 + k);
+    for (size_t i = 0; i < q.size(); ++i) worker.data()->qpos[arm.qpos_adr[i]] = q[i];
+    mj_kinematics(worker.model(), worker.data());
+    const core::Pose target = frame_pose(worker.model(), worker.data(), frame);
+    worker.reset_to_start();
+    IkOptions options;
+    options.seed = 10 + k;
+    const core::IkResult r = solve_ik(*scene, worker, arm.joints, palm, target, options);
+    if (r.status != core::IkStatus::kSolved) continue;
+    ++solved;
+    for (size_t i = 0; i < q.size(); ++i) worker.data()->qpos[arm.qpos_adr[i]] = r.solutions[0][i];
+    mj_kinematics(worker.model(), worker.data());
+    const core::Pose reached = frame_pose(worker.model(), worker.data(), frame);
+    EXPECT_LE((reached.position - target.position).norm(), 1e-3);
+    EXPECT_LE(reached.orientation.angularDistance(target.orientation), 0.0174533);
+    worker.reset_to_start();
+  }
+  // The sampled poses are reachable by construction; a 5-DOF arm has no redundancy to
+  // spare, so a few may need more restarts than the default.
+  EXPECT_GE(solved, trials * 8 / 10) << GetParam();
+}
+
+TEST_P(IkOnBothRobots, UnreachableAndInvalidTargetsAreReportedAsSuch) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  const ChainIndex& arm = scene->chain("left_arm");
+  const std::string palm = scene->robot().find_hand("left")->palm;
+  core::Pose far;
+  far.position = {3.0, 0.0, 1.0};
+  IkOptions options;
+  options.restarts = 5;
+  const core::IkResult r = solve_ik(*scene, worker, arm.joints, palm, far, options);
+  EXPECT_EQ(r.status, core::IkStatus::kUnreachable);
+  EXPECT_GT(r.position_error_m, 1.0);
+  EXPECT_NE(r.reason.find("no solution"), std::string::npos);
+  core::Pose nan_pose;
+  nan_pose.position = {std::nan(""), 0, 1};
+  EXPECT_EQ(solve_ik(*scene, worker, arm.joints, palm, nan_pose, options).status,
+            core::IkStatus::kInvalidInput);
+  EXPECT_EQ(solve_ik(*scene, worker, arm.joints, "no_such_frame", far, options).status,
+            core::IkStatus::kInvalidInput);
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, IkOnBothRobots, ::testing::Values("tallbot", "minibot"));
+
+}  // namespace
+}  // namespace taskmatrix::mujoco
