@@ -18,16 +18,20 @@ using namespace taskmatrix;
 
 struct Fixture {
   std::shared_ptr<const mujoco::Scene> scene;
-  std::unique_ptr<mujoco::WorkerScene> worker;
   std::vector<int> all_joints, arm_joints;
   std::vector<std::vector<double>> all_configs, arm_configs;  // 4096 each
+
+  // A fresh worker with the benchmark's 20 obstacles (layout seed 5), at the start.
+  mujoco::WorkerScene cluttered_worker() const {
+    mujoco::WorkerScene worker(scene);
+    worker.apply_layout(scene->make_layout(20, 5));
+    worker.reset_to_start();
+    return worker;
+  }
 
   Fixture() {
     const harness::ModelCatalog catalog(TASKMATRIX_BENCH_ROOT);
     scene = mujoco::Scene::load(catalog.robot_dir("tallbot"), catalog.environment_dir("kitchen"));
-    worker = std::make_unique<mujoco::WorkerScene>(scene);
-    worker->apply_layout(core::generate_layout(scene->layout_request(20), 5));
-    worker->reset_to_start();
     std::mt19937_64 rng(42);
     std::uniform_real_distribution<double> u(0, 1);
     std::vector<double> lo, hi;
@@ -60,9 +64,7 @@ Fixture& fixture() {
 void BM_ValidityCheck_Raw(benchmark::State& state) {
   Fixture& f = fixture();
   const bool arm_only = state.range(0) == 1;
-  mujoco::WorkerScene worker(f.scene);
-  worker.apply_layout(core::generate_layout(f.scene->layout_request(20), 5));
-  worker.reset_to_start();
+  mujoco::WorkerScene worker = f.cluttered_worker();
   const auto& joints = arm_only ? f.arm_joints : f.all_joints;
   const auto& configs = arm_only ? f.arm_configs : f.all_configs;
   size_t k = 0;
@@ -81,9 +83,7 @@ BENCHMARK(BM_ValidityCheck_Raw)->Arg(0)->Arg(1)->ArgName("arm_only")->Unit(bench
 void BM_ValidityCheck_Skillset(benchmark::State& state) {
   Fixture& f = fixture();
   const bool arm_only = state.range(0) == 1;
-  mujoco::WorkerScene worker(f.scene);
-  worker.apply_layout(core::generate_layout(f.scene->layout_request(20), 5));
-  worker.reset_to_start();
+  mujoco::WorkerScene worker = f.cluttered_worker();
   const auto& joints = arm_only ? f.arm_joints : f.all_joints;
   const auto& configs = arm_only ? f.arm_configs : f.all_configs;
   mujoco::ValidityChecker checker(*f.scene, worker.model(), worker.data(), joints);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/io/text_file.h"
 
 namespace taskmatrix::io {
 
@@ -24,11 +25,7 @@ YamlNode YamlNode::parse(const std::string& text, const std::string& file) {
 }
 
 YamlNode YamlNode::load_file(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string(), "", "cannot open file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  YamlNode root = parse(buffer.str(), file.string());
+  YamlNode root = parse(read_text_file(file), file.string());
   if (!root.is_map()) throw InputError(file.string(), "", "the document must be a YAML mapping");
   return root;
 }

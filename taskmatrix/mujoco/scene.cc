@@ -8,6 +8,7 @@
 
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/io/model_files.h"
+#include "taskmatrix/io/text_file.h"
 #include "taskmatrix/mujoco/mjcf_compose.h"
 #include "taskmatrix/mujoco/urdf_import.h"
 
@@ -16,14 +17,6 @@ namespace taskmatrix::mujoco {
 using core::InputError;
 
 namespace {
-
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string(), "", "cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::filesystem::path required_file(const std::filesystem::path& dir, const char* name) {
   const std::filesystem::path p = dir / name;
@@ -54,10 +47,10 @@ std::shared_ptr<const Scene> Scene::load(const std::filesystem::path& robot_dir,
     robot_src.text = import_urdf_as_mjcf(robot);
   } else {
     compile_file(robot.model_file.string());
-    robot_src.text = read_text(robot.model_file);
+    robot_src.text = io::read_text_file(robot.model_file);
   }
   compile_file(env.model_file.string());
-  const MjcfSource env_src{read_text(env.model_file), env.model_file.string()};
+  const MjcfSource env_src{io::read_text_file(env.model_file), env.model_file.string()};
 
   CompositionOptions options;
   options.model_name = robot.name + "@" + env.name;

@@ -14,6 +14,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/io/text_file.h"
 #include "taskmatrix/mujoco/mujoco_handles.h"
 
 namespace taskmatrix::mujoco {
@@ -21,14 +22,6 @@ namespace taskmatrix::mujoco {
 using core::InputError;
 
 namespace {
-
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string(), "", "cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::string format_numbers(std::initializer_list<double> values) {
   std::string out;
@@ -96,7 +89,7 @@ std::string compile_and_save(const core::RobotProfile& profile) {
   } remove_later{tmpl};
   char error[512] = "";
   const int ok = mj_saveLastXML(tmpl, model.get(), error, sizeof error);
-  std::string text = ok ? read_text(tmpl) : std::string();
+  std::string text = ok ? io::read_text_file(tmpl) : std::string();
   if (!ok) {
     throw InputError(profile.model_file.string(), "",
                      std::string("MuJoCo cannot save it: ") + error);
@@ -126,7 +119,7 @@ void collect_joints(tinyxml2::XMLElement* e, std::vector<tinyxml2::XMLElement*>&
 
 std::string import_urdf_as_mjcf(const core::RobotProfile& profile) {
   const std::string file = profile.model_file.string();
-  validate_urdf(profile, read_text(profile.model_file));
+  validate_urdf(profile, io::read_text_file(profile.model_file));
   const std::string mjcf = compile_and_save(profile);
 
   tinyxml2::XMLDocument doc;
