@@ -13,7 +13,6 @@
 namespace taskmatrix::core {
 
 enum class ObjectKind { kGraspable, kTool, kSurface, kDebris };
-const char* to_string(ObjectKind kind);
 
 struct ObjectSpec {
   std::string name;  // symbolic name programs use ("cup")

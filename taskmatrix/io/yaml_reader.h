@@ -26,10 +26,8 @@ class YamlNode {
   const std::string& file() const { return *file_; }
   const std::string& key() const { return key_; }
   int line() const;  // 1-based, 0 when unknown
-  const YAML::Node& raw() const { return node_; }
 
   bool is_map() const { return node_.IsMap(); }
-  bool is_sequence() const { return node_.IsSequence(); }
   bool is_scalar() const { return node_.IsScalar(); }
   bool has(std::string_view child_key) const;
 

@@ -11,13 +11,12 @@
 
 namespace taskmatrix::mujoco {
 
-core::Pose frame_pose(const mjModel* m, const mjData* d, FrameRef frame) {
+core::Pose frame_pose(const mjData* d, FrameRef frame) {
   core::Pose pose;
   const double* pos =
       frame.kind == FrameRef::Kind::kSite ? d->site_xpos + 3 * frame.id : d->xpos + 3 * frame.id;
   const double* mat =
       frame.kind == FrameRef::Kind::kSite ? d->site_xmat + 9 * frame.id : d->xmat + 9 * frame.id;
-  (void)m;
   pose.position = Eigen::Vector3d(pos[0], pos[1], pos[2]);
   Eigen::Matrix3d r;
   r << mat[0], mat[1], mat[2], mat[3], mat[4], mat[5], mat[6], mat[7], mat[8];
@@ -101,7 +100,7 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
       for (int i = 0; i < n; ++i) d->qpos[adr[i]] = q[i];
       mj_kinematics(m, d);
       mj_comPos(m, d);
-      const core::Pose now = frame_pose(m, d, frame);
+      const core::Pose now = frame_pose(d, frame);
       Eigen::VectorXd err(rows);
       err.head<3>() = target.position - now.position;
       if (o.orientation) err.tail<3>() = orientation_error(target.orientation, now.orientation);

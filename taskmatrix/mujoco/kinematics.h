@@ -11,7 +11,7 @@
 namespace taskmatrix::mujoco {
 
 // Pose of a frame after the last mj_kinematics on `d`.
-core::Pose frame_pose(const mjModel* m, const mjData* d, FrameRef frame);
+core::Pose frame_pose(const mjData* d, FrameRef frame);
 
 struct IkOptions {
   bool orientation = true;  // full pose, or position only

@@ -151,9 +151,8 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   }
   space->setBounds(bounds);
   auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker([&checker, n](const ob::State* s) {
+  si->setStateValidityChecker([&checker](const ob::State* s) {
     const auto* v = s->as<ob::RealVectorStateSpace::StateType>()->values;
-    (void)n;
     return !checker.in_collision(v);
   });
   si->setStateValidityCheckingResolution(o.motion_resolution);

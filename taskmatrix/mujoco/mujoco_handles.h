@@ -34,7 +34,8 @@ ModelPtr copy_model(const mjModel* m);
 DataPtr make_data(const mjModel* m);
 
 // Replaces MuJoCo's default error handler (print and exit) with one that prints a single
-// line naming MuJoCo and exits with status 3, and routes warnings to stderr once each.
+// line naming MuJoCo and exits with status 3, and prints each warning as one line on
+// stderr.
 // Idempotent.
 void install_mujoco_error_handlers();
 

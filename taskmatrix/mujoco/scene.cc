@@ -30,6 +30,24 @@ bool near_axis(const mjtNum* axis, double x, double y, double z) {
          std::abs(axis[2] - z) < 1e-6;
 }
 
+// MuJoCo's body-pair filter (engine_collision_driver): same weld body, or weld parent/child.
+bool body_pair_filtered(const mjModel* m, int b1, int b2) {
+  const int w1 = m->body_weldid[b1], w2 = m->body_weldid[b2];
+  if (w1 == w2) return true;
+  const int p1 = m->body_weldid[m->body_parentid[w1]], p2 = m->body_weldid[m->body_parentid[w2]];
+  const bool filter_parent = !(m->opt.disableflags & mjDSBL_FILTERPARENT);
+  return filter_parent && w1 != 0 && w2 != 0 && (w1 == p2 || w2 == p1);
+}
+
+bool excluded(const mjModel* m, int b1, int b2) {
+  const int lo = std::min(b1, b2), hi = std::max(b1, b2);
+  const int signature = ((lo + 1) << 16) + hi + 1;
+  for (int i = 0; i < m->nexclude; ++i) {
+    if (m->exclude_signature[i] == signature) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::shared_ptr<const Scene> Scene::load(const std::filesystem::path& robot_dir,
@@ -243,6 +261,28 @@ void Scene::index_and_validate() {
           mj_name2id(m, mjOBJ_GEOM, obstacle_geom_name(slot, core::ObstacleShape(k)).c_str());
     }
     obstacle_slots_.push_back(s);
+  }
+
+  if (m->npair > 0) {
+    throw InputError(mfile + " in " + environment_.model_file.string(), "contact.pair",
+                     "explicit <contact><pair> elements are not supported");
+  }
+  std::vector<char> ever_collides(m->ngeom, 0);
+  for (int g = 0; g < m->ngeom; ++g)
+    ever_collides[g] = m->geom_contype[g] || m->geom_conaffinity[g];
+  for (const ObstacleSlot& s : obstacle_slots_) {
+    for (int g : s.geoms) ever_collides[g] = 1;
+  }
+  for (int g1 = 0; g1 < m->ngeom; ++g1) {
+    if (!ever_collides[g1]) continue;
+    for (int g2 = g1 + 1; g2 < m->ngeom; ++g2) {
+      if (!ever_collides[g2] || (!is_robot_geom(g1) && !is_robot_geom(g2))) continue;
+      const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
+      if (body_pair_filtered(m, b1, b2) || excluded(m, b1, b2)) continue;
+      GeomPair p{g1, g2, std::max(m->geom_margin[g1], m->geom_margin[g2])};
+      if (m->geom_type[p.g1] > m->geom_type[p.g2]) std::swap(p.g1, p.g2);
+      robot_geom_pairs_.push_back(p);
+    }
   }
 
   start_qpos_.assign(m->qpos0, m->qpos0 + m->nq);

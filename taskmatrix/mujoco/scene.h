@@ -36,6 +36,12 @@ struct ObstacleSlot {
   std::array<int, 3> geoms{-1, -1, -1};  // indexed by core::ObstacleShape
 };
 
+// A geom pair that MuJoCo's collision filters let through and that involves the robot.
+struct GeomPair {
+  int g1, g2;  // geom_type[g1] <= geom_type[g2], as MuJoCo's function table wants
+  double margin;
+};
+
 struct RobotContact {
   std::string geom1, body1, geom2, body2;
   double distance = 0;  // negative: penetration
@@ -58,10 +64,13 @@ class Scene {
   const ChainIndex& chain(std::string_view name) const;  // throws std::out_of_range
   FrameRef frame(std::string_view name) const;           // throws std::out_of_range
   int head_camera() const { return head_camera_; }
-  int robot_root_body() const { return robot_root_; }
   bool is_robot_body(int body) const;
   bool is_robot_geom(int geom) const;
   const std::vector<ObstacleSlot>& obstacle_slots() const { return obstacle_slots_; }
+  // Every geom pair with a robot geom that can ever produce a contact: not filtered by
+  // MuJoCo's weld/parent rule or an <exclude>, and with collision bits set, or an obstacle
+  // slot (whose bits change per layout). Computed once, at load.
+  const std::vector<GeomPair>& robot_geom_pairs() const { return robot_geom_pairs_; }
 
   // Full qpos with the robot at the environment's start pose in posture `rest`; everything
   // else at the model's qpos0.
@@ -89,6 +98,7 @@ class Scene {
   int head_camera_ = -1;
   int robot_root_ = -1;
   std::vector<ObstacleSlot> obstacle_slots_;
+  std::vector<GeomPair> robot_geom_pairs_;
   std::vector<double> start_qpos_;
   std::vector<core::Rect2> object_footprints_;
 };

@@ -1,7 +1,6 @@
 #include "taskmatrix/mujoco/validity_checker.h"
 
 #include <algorithm>
-#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -12,24 +11,6 @@ bool robot_contact(const Scene& scene, const mjData* d) {
   for (int i = 0; i < d->ncon; ++i) {
     if (scene.is_robot_geom(d->contact[i].geom1) || scene.is_robot_geom(d->contact[i].geom2))
       return true;
-  }
-  return false;
-}
-
-// MuJoCo's body-pair filter (engine_collision_driver): same weld body, or weld parent/child.
-bool body_pair_filtered(const mjModel* m, int b1, int b2) {
-  const int w1 = m->body_weldid[b1], w2 = m->body_weldid[b2];
-  if (w1 == w2) return true;
-  const int p1 = m->body_weldid[m->body_parentid[w1]], p2 = m->body_weldid[m->body_parentid[w2]];
-  const bool filter_parent = !(m->opt.disableflags & mjDSBL_FILTERPARENT);
-  return filter_parent && w1 != 0 && w2 != 0 && (w1 == p2 || w2 == p1);
-}
-
-bool excluded(const mjModel* m, int b1, int b2) {
-  const int lo = std::min(b1, b2), hi = std::max(b1, b2);
-  const int signature = ((lo + 1) << 16) + hi + 1;
-  for (int i = 0; i < m->nexclude; ++i) {
-    if (m->exclude_signature[i] == signature) return true;
   }
   return false;
 }
@@ -45,8 +26,6 @@ bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d) {
 ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d,
                                  const std::vector<int>& moving_joints)
     : scene_(scene), m_(m), d_(d), joints_(moving_joints) {
-  if (m->npair > 0)
-    throw std::invalid_argument("models with explicit <contact><pair> are not supported");
   std::vector<char> moving(m->nbody, 0);
   for (int j : joints_) {
     if (j < 0 || j >= m->njnt || (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) ||
@@ -76,33 +55,17 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
   }
 
   mj_kinematics(m, d);
-  // Candidate pairs: at least one robot geom, not filtered by bodies or excludes, and able to
-  // collide now or later (obstacle slots change their contype per layout: test at query time).
-  std::set<int> slot_geoms;
-  for (const ObstacleSlot& s : scene.obstacle_slots())
-    slot_geoms.insert(s.geoms.begin(), s.geoms.end());
-  auto can_ever_collide = [&](int g) {
-    return slot_geoms.count(g) || m->geom_contype[g] || m->geom_conaffinity[g];
-  };
-  for (int g1 = 0; g1 < m->ngeom; ++g1) {
-    if (!can_ever_collide(g1)) continue;
-    for (int g2 = g1 + 1; g2 < m->ngeom; ++g2) {
-      if (!can_ever_collide(g2)) continue;
-      if (!scene.is_robot_geom(g1) && !scene.is_robot_geom(g2)) continue;
-      const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
-      if (body_pair_filtered(m, b1, b2) || excluded(m, b1, b2)) continue;
-      Pair p{g1, g2, std::max(m->geom_margin[g1], m->geom_margin[g2])};
-      if (m->geom_type[p.g1] > m->geom_type[p.g2]) std::swap(p.g1, p.g2);
-      if (moving[b1] || moving[b2]) {
-        changing_pairs_.push_back(p);
-      } else if (!static_collision_ && pair_in_contact(p)) {
-        static_collision_ = true;
-      }
+  // Pairs the moving joints can change are tested per query; the rest once, here.
+  for (const GeomPair& p : scene.robot_geom_pairs()) {
+    if (moving[m->geom_bodyid[p.g1]] || moving[m->geom_bodyid[p.g2]]) {
+      changing_pairs_.push_back(p);
+    } else if (!static_collision_ && pair_in_contact(p)) {
+      static_collision_ = true;
     }
   }
 }
 
-bool ValidityChecker::pair_in_contact(const Pair& p) {
+bool ValidityChecker::pair_in_contact(const GeomPair& p) {
   const mjModel* m = m_;
   const int g1 = p.g1, g2 = p.g2;
   if (!((m->geom_contype[g1] & m->geom_conaffinity[g2]) ||
@@ -172,7 +135,7 @@ bool ValidityChecker::in_collision(const double* values) {
   for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
   if (static_collision_) return true;
   update_moving_kinematics();
-  for (const Pair& p : changing_pairs_) {
+  for (const GeomPair& p : changing_pairs_) {
     if (pair_in_contact(p)) return true;
   }
   return false;

@@ -45,12 +45,8 @@ class ValidityChecker {
   std::uint64_t narrow_phase_calls() const { return narrow_calls_; }
 
  private:
-  struct Pair {
-    int g1, g2;  // geom_type[g1] <= geom_type[g2], as MuJoCo's function table wants
-    double margin;
-  };
   void update_moving_kinematics();
-  bool pair_in_contact(const Pair& p);
+  bool pair_in_contact(const GeomPair& p);
 
   const Scene& scene_;
   const mjModel* m_;
@@ -59,7 +55,7 @@ class ValidityChecker {
   std::vector<int> qpos_adr_;
   std::vector<int> moving_bodies_;  // in increasing id order: parents first
   std::vector<int> moving_geoms_;
-  std::vector<Pair> changing_pairs_;
+  std::vector<GeomPair> changing_pairs_;
   bool static_collision_ = false;
   std::uint64_t checks_ = 0;
   std::uint64_t narrow_calls_ = 0;

@@ -183,7 +183,7 @@ TEST_P(IkOnBothRobots, ReachesSampledPalmPosesWithinOneMillimetreAndOneDegree) {
     const std::vector<double> q = valid_sample(*scene, worker, arm, 500 + k);
     for (size_t i = 0; i < q.size(); ++i) worker.data()->qpos[arm.qpos_adr[i]] = q[i];
     mj_kinematics(worker.model(), worker.data());
-    const core::Pose target = frame_pose(worker.model(), worker.data(), frame);
+    const core::Pose target = frame_pose(worker.data(), frame);
     worker.reset_to_start();
     IkOptions options;
     options.seed = 10 + k;
@@ -192,7 +192,7 @@ TEST_P(IkOnBothRobots, ReachesSampledPalmPosesWithinOneMillimetreAndOneDegree) {
     ++solved;
     for (size_t i = 0; i < q.size(); ++i) worker.data()->qpos[arm.qpos_adr[i]] = r.solutions[0][i];
     mj_kinematics(worker.model(), worker.data());
-    const core::Pose reached = frame_pose(worker.model(), worker.data(), frame);
+    const core::Pose reached = frame_pose(worker.data(), frame);
     EXPECT_LE((reached.position - target.position).norm(), 1e-3);
     EXPECT_LE(reached.orientation.angularDistance(target.orientation), 0.0174533);
     worker.reset_to_start();
