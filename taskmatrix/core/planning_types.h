@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,34 @@ namespace taskmatrix::core {
 struct Pose {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+
+struct IkOptions {
+  bool orientation = true;  // full pose, or position only
+  double position_tolerance_m = 1e-3;
+  double orientation_tolerance_rad = 0.0174533;  // 1 degree
+  int max_iterations = 150;                      // per start
+  int restarts = 30;                             // random starts after the current configuration
+  int max_solutions = 1;                         // stop after this many distinct solutions
+  double distinct_rad = 0.2;                     // joint-space (max-norm) separation of solutions
+  bool collision_free = true;
+  std::uint64_t seed = 1;
+};
+
+// An OMPL geometric planner by name (see the backend's planner_names()) with parameters by
+// OMPL's own names, e.g. {"range": "0.5"}.
+struct PlannerSpec {
+  std::string name = "RRTConnect";
+  std::map<std::string, std::string> params;
+};
+
+struct PlanOptions {
+  PlannerSpec planner;
+  double time_limit_s = 5.0;
+  unsigned max_iterations = 0;       // > 0: also stop after this many planner iterations
+  double simplify_time_s = 0.25;     // bound on simplification; 0 skips it
+  double motion_resolution = 0.005;  // fraction of the space's extent between checked states
+  std::uint32_t seed = 1;            // > 0
 };
 
 enum class IkStatus {
@@ -50,9 +79,11 @@ struct PlanResult {
   double planning_time_s = 0;
   double simplification_time_s = 0;
   bool simplification_hit_time_limit = false;
+  double ik_time_s = 0;  // inverse kinematics for pose goals
   std::uint64_t collision_checks = 0;
   unsigned graph_states = 0;
-  int goal_index = -1;  // which of several goals was reached
+  int plan_calls = 0;   // planner runs behind this result (one per pose tried)
+  int goal_index = -1;  // which of several goals (poses, for plan_to_poses) was reached
   std::string message;
   bool success() const { return status == PlanStatus::kExactSolution; }
 };

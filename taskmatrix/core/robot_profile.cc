@@ -40,6 +40,19 @@ void validate_profile_structure(const RobotProfile& p) {
       }
     }
   }
+  for (const ChainSpec& c : p.chains) {
+    if (!p.speed_limits.count(c.name)) {
+      throw InputError(file, "speed_limits", "has no entry for chain '" + c.name + "'");
+    }
+  }
+  for (const auto& [chain_name, limit] : p.speed_limits) {
+    const std::string key = "speed_limits." + chain_name;
+    if (!p.find_chain(chain_name)) throw InputError(file, key, "names unknown chain");
+    if (!(std::isfinite(limit.velocity) && limit.velocity > 0 &&
+          std::isfinite(limit.acceleration) && limit.acceleration > 0)) {
+      throw InputError(file, key, "velocity and acceleration must be positive and finite");
+    }
+  }
   if (p.find_chain("base")->joints.size() != 3) {
     throw InputError(file, "chains.base.joints",
                      "the base chain must have exactly three joints (x, y, yaw)");

@@ -40,6 +40,13 @@ struct CameraSpec {
   double fovy_deg = 60.0;
 };
 
+// Execution limits of every joint of a chain: rad/s and rad/s^2 for hinges, m/s and m/s^2
+// for slides.
+struct SpeedLimit {
+  double velocity = 0;
+  double acceleration = 0;
+};
+
 // chain name -> joint values in the chain's joint order. Names only the chains it moves.
 using Posture = std::map<std::string, std::vector<double>>;
 
@@ -55,6 +62,7 @@ struct RobotProfile {
   CameraSpec head_camera;
   std::vector<HandSpec> hands;
   std::map<std::string, Posture> postures;
+  std::map<std::string, SpeedLimit> speed_limits;  // chain name -> limits, one per chain
   // Position-actuator gains the URDF importer uses (chain name -> kp); MJCF robots carry
   // their own actuators.
   std::map<std::string, double> actuator_kp;
@@ -70,7 +78,7 @@ inline constexpr std::array<std::string_view, 3> kRequiredPostures = {"rest", "h
 // Checks what can be checked without the model: required chains and postures exist, chains
 // are disjoint, the base chain has three joints, postures name known chains with the right
 // number of finite values, hands name their fingers consistently. Throws InputError naming
-// the profile file and key.
+// the profile file and key. Every chain needs speed limits.
 void validate_profile_structure(const RobotProfile& profile);
 
 }  // namespace taskmatrix::core

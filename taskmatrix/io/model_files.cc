@@ -63,7 +63,7 @@ core::Rect2 read_rect(const YamlNode& node) {
 core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file) {
   const YamlNode root = YamlNode::load_file(profile_file);
   root.expect_keys({"name", "model", "urdf", "height_m", "chains", "head_camera", "hands",
-                    "postures", "actuator_kp", "description"});
+                    "postures", "speed_limits", "actuator_kp", "description"});
   const std::filesystem::path dir = profile_file.parent_path();
   core::RobotProfile p;
   p.profile_file = profile_file;
@@ -115,6 +115,11 @@ core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file)
       posture[chain_name] = values.as_doubles();
     }
     p.postures[posture_name] = posture;
+  }
+  for (const auto& [chain_name, node] : root.required("speed_limits").entries()) {
+    node.expect_keys({"velocity", "acceleration"});
+    p.speed_limits[chain_name] = {node.required("velocity").as_positive_double(),
+                                  node.required("acceleration").as_positive_double()};
   }
   if (auto kp = root.optional("actuator_kp")) {
     for (const auto& [chain_name, value] : kp->entries()) {

@@ -24,6 +24,40 @@ core::Pose frame_pose(const mjData* d, FrameRef frame) {
   return pose;
 }
 
+core::Pose frame_pose(const mjData* d, const BodyFrame& frame) {
+  const core::Pose body = frame_pose(d, FrameRef{FrameRef::Kind::kBody, frame.body});
+  core::Pose pose;
+  pose.position = body.position + body.orientation * frame.offset.position;
+  pose.orientation = (body.orientation * frame.offset.orientation).normalized();
+  return pose;
+}
+
+BodyFrame resolve_frame(const Scene& scene, const mjData* d, const std::string& name,
+                        const std::vector<Attachment>& attachments) {
+  const mjModel* m = scene.model();
+  const FrameRef ref = scene.frame(name);
+  BodyFrame frame;
+  if (ref.kind == FrameRef::Kind::kSite) {
+    frame.body = m->site_bodyid[ref.id];
+    const double* p = m->site_pos + 3 * ref.id;
+    const double* q = m->site_quat + 4 * ref.id;
+    frame.offset.position = Eigen::Vector3d(p[0], p[1], p[2]);
+    frame.offset.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+  } else {
+    frame.body = ref.id;
+  }
+  for (const Attachment& a : attachments) {
+    if (m->body_rootid[frame.body] != a.body) continue;
+    // On a held object: re-express the frame on the holder, from the current poses.
+    const core::Pose world = frame_pose(d, frame);
+    const core::Pose holder = frame_pose(d, FrameRef{FrameRef::Kind::kBody, a.holder_body});
+    frame.body = a.holder_body;
+    frame.offset.position = holder.orientation.conjugate() * (world.position - holder.position);
+    frame.offset.orientation = (holder.orientation.conjugate() * world.orientation).normalized();
+  }
+  return frame;
+}
+
 namespace {
 
 // Rotation taking `current` to `target`, as an axis times angle in the world frame.
@@ -38,8 +72,15 @@ Eigen::Vector3d orientation_error(const Eigen::Quaterniond& target,
 }  // namespace
 
 core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vector<int>& joints,
-                        const std::string& frame_name, const core::Pose& target,
-                        const IkOptions& o) {
+                        const std::string& frame, const core::Pose& target,
+                        const IkOptions& options) {
+  return solve_ik(scene, worker.model(), worker.data(), joints, frame, target, options);
+}
+
+core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
+                        const std::vector<int>& joints, const std::string& frame_name,
+                        const core::Pose& target, const IkOptions& o,
+                        const std::vector<Attachment>& attachments) {
   const auto t0 = std::chrono::steady_clock::now();
   core::IkResult result;
   auto finish = [&](core::IkStatus status, std::string reason) {
@@ -54,14 +95,12 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
                   "target pose is not finite or its quaternion is not unit length");
   }
   if (joints.empty()) return finish(core::IkStatus::kInvalidInput, "no joints to solve for");
-  FrameRef frame;
+  BodyFrame frame;
   try {
-    frame = scene.frame(frame_name);
+    frame = resolve_frame(scene, d, frame_name, attachments);
   } catch (const std::out_of_range& e) {
     return finish(core::IkStatus::kInvalidInput, e.what());
   }
-  const mjModel* m = worker.model();
-  mjData* d = worker.data();
   const int n = static_cast<int>(joints.size());
   std::vector<int> adr(n), dof(n);
   Eigen::VectorXd lo(n), hi(n);
@@ -77,7 +116,7 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
     hi[i] = m->jnt_range[2 * j + 1];
   }
   const std::vector<double> saved(d->qpos, d->qpos + m->nq);
-  ValidityChecker checker(scene, m, d, joints);
+  ValidityChecker checker(scene, m, d, joints, attachments);
 
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -101,6 +140,7 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
       mj_kinematics(m, d);
       mj_comPos(m, d);
       const core::Pose now = frame_pose(d, frame);
+      const double point[3] = {now.position.x(), now.position.y(), now.position.z()};
       Eigen::VectorXd err(rows);
       err.head<3>() = target.position - now.position;
       if (o.orientation) err.tail<3>() = orientation_error(target.orientation, now.orientation);
@@ -126,11 +166,7 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
         result.solutions.push_back(solution);
         break;
       }
-      if (frame.kind == FrameRef::Kind::kSite) {
-        mj_jacSite(m, d, jacp.data(), o.orientation ? jacr.data() : nullptr, frame.id);
-      } else {
-        mj_jacBody(m, d, jacp.data(), o.orientation ? jacr.data() : nullptr, frame.id);
-      }
+      mj_jac(m, d, jacp.data(), o.orientation ? jacr.data() : nullptr, point, frame.body);
       Eigen::MatrixXd jac(rows, n);
       for (int i = 0; i < n; ++i) {
         for (int r = 0; r < 3; ++r) {
@@ -148,6 +184,10 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
   }
   std::copy(saved.begin(), saved.end(), d->qpos);
   mj_kinematics(m, d);
+  if (!attachments.empty()) {  // the checker moved held objects' geoms; restore their poses
+    place_attachments(m, d, attachments);
+    mj_kinematics(m, d);
+  }
   result.position_error_m = best_pos;
   result.orientation_error_rad = best_rot;
   if (!result.solutions.empty()) return finish(core::IkStatus::kSolved, "");

@@ -82,14 +82,22 @@ std::vector<std::string> planner_names() {
   return names;
 }
 
+MotionPlanner::MotionPlanner(const Scene& scene, const mjModel* m, mjData* d,
+                             std::vector<int> joints, std::vector<Attachment> attachments)
+    : scene_(scene),
+      m_(m),
+      d_(d),
+      joints_(std::move(joints)),
+      attachments_(std::move(attachments)) {}
+
 MotionPlanner::MotionPlanner(const Scene& scene, WorkerScene& worker, std::vector<int> joints)
-    : scene_(scene), worker_(worker), joints_(std::move(joints)) {}
+    : MotionPlanner(scene, worker.model(), worker.data(), std::move(joints)) {}
 
 core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goals,
                                      const PlanOptions& o) {
   core::PlanResult result;
-  const mjModel* m = worker_.model();
-  mjData* d = worker_.data();
+  const mjModel* m = m_;
+  mjData* d = d_;
   const size_t n = joints_.size();
   auto fail = [&](core::PlanStatus status, std::string message) {
     result.status = status;
@@ -125,9 +133,12 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   ompl::msg::useOutputHandler(&quiet);
   ompl::RNG::setSeed(o.seed);
 
-  ValidityChecker checker(scene_, m, d, joints_);
   const std::vector<double> saved(d->qpos, d->qpos + m->nq);
-  auto restore = [&] { std::copy(saved.begin(), saved.end(), d->qpos); };
+  ValidityChecker checker(scene_, m, d, joints_, attachments_);
+  auto restore = [&] {
+    std::copy(saved.begin(), saved.end(), d->qpos);
+    mj_kinematics(m, d);
+  };
 
   auto within = [&](const std::vector<double>& q) {
     for (size_t i = 0; i < n; ++i) {
@@ -204,6 +215,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   const auto t_plan = std::chrono::steady_clock::now();
   const ob::PlannerStatus status = planner->solve(ptc);
   result.planning_time_s = seconds_since(t_plan);
+  result.plan_calls = 1;
   ob::PlannerData data(si);
   planner->getPlannerData(data);
   result.graph_states = data.numVertices();

@@ -17,30 +17,23 @@
 
 #include "taskmatrix/core/planning_types.h"
 #include "taskmatrix/mujoco/scene.h"
+#include "taskmatrix/mujoco/validity_checker.h"
 
 namespace taskmatrix::mujoco {
 
-struct PlannerSpec {
-  std::string name = "RRTConnect";
-  std::map<std::string, std::string> params;  // OMPL parameter names, e.g. range: "0.5"
-};
-
-struct PlanOptions {
-  PlannerSpec planner;
-  double time_limit_s = 5.0;
-  unsigned max_iterations = 0;       // > 0: also stop after this many planner iterations
-  double simplify_time_s = 0.25;     // bound on simplification; 0 skips it
-  double motion_resolution = 0.005;  // fraction of the space's extent between checked states
-  std::uint32_t seed = 1;            // > 0
-};
+using core::PlannerSpec;
+using core::PlanOptions;
 
 // Planner names accepted by PlannerSpec, sorted.
 std::vector<std::string> planner_names();
 
 class MotionPlanner {
  public:
-  // Plans for `joints` (robot hinge/slide joint ids); every other joint stays where the
-  // worker's data has it.
+  // Plans for `joints` (robot hinge/slide joint ids) on model `m` and data `d` (its qpos is
+  // the start; every other joint stays where it is), with `attachments` held.
+  MotionPlanner(const Scene& scene, const mjModel* m, mjData* d, std::vector<int> joints,
+                std::vector<Attachment> attachments = {});
+  // The same on a worker's model and data.
   MotionPlanner(const Scene& scene, WorkerScene& worker, std::vector<int> joints);
 
   // From the worker's current configuration to one of `goals`, tried in the order given.
@@ -48,8 +41,10 @@ class MotionPlanner {
 
  private:
   const Scene& scene_;
-  WorkerScene& worker_;
+  const mjModel* m_;
+  mjData* d_;
   std::vector<int> joints_;
+  std::vector<Attachment> attachments_;
 };
 
 }  // namespace taskmatrix::mujoco

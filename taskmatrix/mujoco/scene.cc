@@ -267,21 +267,16 @@ void Scene::index_and_validate() {
     throw InputError(mfile + " in " + environment_.model_file.string(), "contact.pair",
                      "explicit <contact><pair> elements are not supported");
   }
-  std::vector<char> ever_collides(m->ngeom, 0);
+  ever_collides_.assign(m->ngeom, 0);
   for (int g = 0; g < m->ngeom; ++g)
-    ever_collides[g] = m->geom_contype[g] || m->geom_conaffinity[g];
+    ever_collides_[g] = m->geom_contype[g] || m->geom_conaffinity[g];
   for (const ObstacleSlot& s : obstacle_slots_) {
-    for (int g : s.geoms) ever_collides[g] = 1;
+    for (int g : s.geoms) ever_collides_[g] = 1;
   }
   for (int g1 = 0; g1 < m->ngeom; ++g1) {
-    if (!ever_collides[g1]) continue;
     for (int g2 = g1 + 1; g2 < m->ngeom; ++g2) {
-      if (!ever_collides[g2] || (!is_robot_geom(g1) && !is_robot_geom(g2))) continue;
-      const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
-      if (body_pair_filtered(m, b1, b2) || excluded(m, b1, b2)) continue;
-      GeomPair p{g1, g2, std::max(m->geom_margin[g1], m->geom_margin[g2])};
-      if (m->geom_type[p.g1] > m->geom_type[p.g2]) std::swap(p.g1, p.g2);
-      robot_geom_pairs_.push_back(p);
+      if (!is_robot_geom(g1) && !is_robot_geom(g2)) continue;
+      if (auto p = collidable_pair(g1, g2)) robot_geom_pairs_.push_back(*p);
     }
   }
 
@@ -290,6 +285,16 @@ void Scene::index_and_validate() {
   start_qpos_[base.qpos_adr[1]] = environment_.robot_start.y;
   start_qpos_[base.qpos_adr[2]] = environment_.robot_start.yaw;
   apply_posture("rest", start_qpos_.data());
+}
+
+std::optional<GeomPair> Scene::collidable_pair(int g1, int g2) const {
+  const mjModel* m = model_.get();
+  if (g1 == g2 || !ever_collides_[g1] || !ever_collides_[g2]) return std::nullopt;
+  const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
+  if (body_pair_filtered(m, b1, b2) || excluded(m, b1, b2)) return std::nullopt;
+  GeomPair p{g1, g2, std::max(m->geom_margin[g1], m->geom_margin[g2])};
+  if (m->geom_type[p.g1] > m->geom_type[p.g2]) std::swap(p.g1, p.g2);
+  return p;
 }
 
 const ChainIndex& Scene::chain(std::string_view name) const {

@@ -7,6 +7,7 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -71,6 +72,9 @@ class Scene {
   // MuJoCo's weld/parent rule or an <exclude>, and with collision bits set, or an obstacle
   // slot (whose bits change per layout). Computed once, at load.
   const std::vector<GeomPair>& robot_geom_pairs() const { return robot_geom_pairs_; }
+  // The pair (g1, g2) in MuJoCo's argument order, if the two geoms can ever touch: both with
+  // collision bits (or an obstacle slot), not filtered by weld/parent rules or an <exclude>.
+  std::optional<GeomPair> collidable_pair(int g1, int g2) const;
 
   // Full qpos with the robot at the environment's start pose in posture `rest`; everything
   // else at the model's qpos0.
@@ -99,6 +103,7 @@ class Scene {
   int robot_root_ = -1;
   std::vector<ObstacleSlot> obstacle_slots_;
   std::vector<GeomPair> robot_geom_pairs_;
+  std::vector<char> ever_collides_;
   std::vector<double> start_qpos_;
   std::vector<core::Rect2> object_footprints_;
 };

@@ -1,31 +1,82 @@
 #include "taskmatrix/mujoco/validity_checker.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 namespace taskmatrix::mujoco {
 namespace {
 
-bool robot_contact(const Scene& scene, const mjData* d) {
-  for (int i = 0; i < d->ncon; ++i) {
-    if (scene.is_robot_geom(d->contact[i].geom1) || scene.is_robot_geom(d->contact[i].geom2))
-      return true;
+// Index of the attachment whose object contains `body`, or -1.
+int attachment_of(const mjModel* m, int body, const std::vector<Attachment>& attachments) {
+  const int root = m->body_rootid[body];
+  for (size_t k = 0; k < attachments.size(); ++k) {
+    if (attachments[k].body == root) return static_cast<int>(k);
   }
-  return false;
+  return -1;
+}
+
+bool contains(const std::vector<int>& v, int x) {
+  return std::find(v.begin(), v.end(), x) != v.end();
+}
+
+// Pose of the attached object from its holder's pose in `d`.
+void attached_pose(const mjData* d, const Attachment& a, double pos[3], double quat[4]) {
+  mju_rotVecMat(pos, a.pos.data(), d->xmat + 9 * a.holder_body);
+  mju_addTo3(pos, d->xpos + 3 * a.holder_body);
+  mju_mulQuat(quat, d->xquat + 4 * a.holder_body, a.quat.data());
+  mju_normalize4(quat);
 }
 
 }  // namespace
 
-bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d) {
+void place_attachments(const mjModel* m, mjData* d, const std::vector<Attachment>& attachments) {
+  for (const Attachment& a : attachments) {
+    const int j = m->body_jntadr[a.body];
+    double* q = d->qpos + m->jnt_qposadr[j];
+    attached_pose(d, a, q, q + 3);
+    mju_zero(d->qvel + m->jnt_dofadr[j], 6);
+  }
+}
+
+bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjContact& c,
+                               const std::vector<Attachment>& attachments) {
+  const int g[2] = {c.geom1, c.geom2};
+  const int b[2] = {m->geom_bodyid[c.geom1], m->geom_bodyid[c.geom2]};
+  const int k[2] = {attachments.empty() ? -1 : attachment_of(m, b[0], attachments),
+                    attachments.empty() ? -1 : attachment_of(m, b[1], attachments)};
+  if (!scene.is_robot_body(b[0]) && !scene.is_robot_body(b[1]) && k[0] < 0 && k[1] < 0) {
+    return false;
+  }
+  for (int s = 0; s < 2; ++s) {
+    if (k[s] < 0) continue;
+    const Attachment& a = attachments[k[s]];
+    const int other = 1 - s;
+    if (contains(a.hand_bodies, b[other])) return false;
+    if (contains(a.support_geoms, g[other])) return c.dist < -a.support_tolerance_m;
+  }
+  return true;
+}
+
+bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
+                            const std::vector<Attachment>& attachments) {
   mj_kinematics(m, d);
+  if (!attachments.empty()) {
+    place_attachments(m, d, attachments);
+    mj_kinematics(m, d);
+  }
   mj_collision(m, d);
-  return robot_contact(scene, d);
+  for (int i = 0; i < d->ncon; ++i) {
+    if (counts_as_robot_collision(scene, m, d->contact[i], attachments)) return true;
+  }
+  return false;
 }
 
 ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d,
-                                 const std::vector<int>& moving_joints)
-    : scene_(scene), m_(m), d_(d), joints_(moving_joints) {
+                                 const std::vector<int>& moving_joints,
+                                 const std::vector<Attachment>& attachments)
+    : scene_(scene), m_(m), d_(d), joints_(moving_joints), attachments_(attachments) {
   std::vector<char> moving(m->nbody, 0);
   for (int j : joints_) {
     if (j < 0 || j >= m->njnt || (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) ||
@@ -54,36 +105,123 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
     if (moving[m->geom_bodyid[g]]) moving_geoms_.push_back(g);
   }
 
+  // Attached objects: a free body under the world whose subtree has no other joint.
+  std::vector<int> object_of(m->nbody, -1);
+  for (size_t k = 0; k < attachments_.size(); ++k) {
+    const Attachment& a = attachments_[k];
+    if (a.body <= 0 || a.body >= m->nbody || m->body_parentid[a.body] != 0 ||
+        m->body_jntnum[a.body] != 1 || m->jnt_type[m->body_jntadr[a.body]] != mjJNT_FREE ||
+        !scene.is_robot_body(a.holder_body)) {
+      throw std::invalid_argument(
+          "an attached object must be a free body under the world, "
+          "held by a robot body");
+    }
+    object_of[a.body] = static_cast<int>(k);
+    if (moving[a.holder_body]) moving_attachments_.push_back(k);
+  }
+  for (int b = 1; b < m->nbody; ++b) {
+    const int parent_object = object_of[m->body_parentid[b]];
+    if (parent_object < 0) continue;
+    if (m->body_jntnum[b] > 0) {
+      throw std::invalid_argument("an attached object has a joint below its root body");
+    }
+    object_of[b] = parent_object;
+  }
+
   mj_kinematics(m, d);
+  for (const Attachment& a : attachments_) place_attached(a);
   // Pairs the moving joints can change are tested per query; the rest once, here.
   for (const GeomPair& p : scene.robot_geom_pairs()) {
+    if (object_of[m->geom_bodyid[p.g1]] >= 0 || object_of[m->geom_bodyid[p.g2]] >= 0) continue;
     if (moving[m->geom_bodyid[p.g1]] || moving[m->geom_bodyid[p.g2]]) {
       changing_pairs_.push_back(p);
     } else if (!static_collision_ && pair_in_contact(p)) {
       static_collision_ = true;
     }
   }
+  for (size_t k = 0; k < attachments_.size(); ++k) {
+    const Attachment& a = attachments_[k];
+    const bool object_moves = moving[a.holder_body];
+    for (int g1 = 0; g1 < m->ngeom; ++g1) {
+      if (object_of[m->geom_bodyid[g1]] != static_cast<int>(k)) continue;
+      for (int g2 = 0; g2 < m->ngeom; ++g2) {
+        const int b2 = m->geom_bodyid[g2];
+        if (object_of[b2] == static_cast<int>(k) || contains(a.hand_bodies, b2)) continue;
+        // Two held objects: keep the pair once, under the first.
+        if (object_of[b2] >= 0 && object_of[b2] < static_cast<int>(k)) continue;
+        const std::optional<GeomPair> p = scene.collidable_pair(g1, g2);
+        if (!p) continue;
+        const double tolerance = contains(a.support_geoms, g2) ? a.support_tolerance_m : 0.0;
+        const bool other_moves =
+            moving[b2] || (object_of[b2] >= 0 && moving[attachments_[object_of[b2]].holder_body]);
+        if (object_moves || other_moves) {
+          attached_pairs_.push_back({*p, tolerance});
+        } else if (!static_collision_ && pair_in_contact(*p, tolerance)) {
+          static_collision_ = true;
+        }
+      }
+    }
+  }
 }
 
-bool ValidityChecker::pair_in_contact(const GeomPair& p) {
+void ValidityChecker::place_attached(const Attachment& a) {
+  const mjModel* m = m_;
+  mjData* d = d_;
+  attached_pose(d, a, d->xpos + 3 * a.body, d->xquat + 4 * a.body);
+  mju_quat2Mat(d->xmat + 9 * a.body, d->xquat + 4 * a.body);
+  for (int b = a.body + 1; b < m->nbody && m->body_rootid[b] == a.body; ++b) {
+    const int parent = m->body_parentid[b];
+    mju_rotVecMat(d->xpos + 3 * b, m->body_pos + 3 * b, d->xmat + 9 * parent);
+    mju_addTo3(d->xpos + 3 * b, d->xpos + 3 * parent);
+    mju_mulQuat(d->xquat + 4 * b, d->xquat + 4 * parent, m->body_quat + 4 * b);
+    mju_quat2Mat(d->xmat + 9 * b, d->xquat + 4 * b);
+  }
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int b = m->geom_bodyid[g];
+    if (m->body_rootid[b] != a.body) continue;
+    mju_rotVecMat(d->geom_xpos + 3 * g, m->geom_pos + 3 * g, d->xmat + 9 * b);
+    mju_addTo3(d->geom_xpos + 3 * g, d->xpos + 3 * b);
+    double q[4];
+    mju_mulQuat(q, d->xquat + 4 * b, m->geom_quat + 4 * g);
+    mju_quat2Mat(d->geom_xmat + 9 * g, q);
+  }
+}
+
+int ValidityChecker::collide(const GeomPair& p, double margin) {
   const mjModel* m = m_;
   const int g1 = p.g1, g2 = p.g2;
   if (!((m->geom_contype[g1] & m->geom_conaffinity[g2]) ||
         (m->geom_contype[g2] & m->geom_conaffinity[g1]))) {
-    return false;
+    return 0;
   }
   // Bounding spheres, as mj_collideGeoms does (planes have rbound 0 and skip this).
   if (m->geom_rbound[g1] > 0 && m->geom_rbound[g2] > 0) {
     const double* a = d_->geom_xpos + 3 * g1;
     const double* b = d_->geom_xpos + 3 * g2;
     const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    const double bound = m->geom_rbound[g1] + m->geom_rbound[g2] + p.margin;
-    if (dx * dx + dy * dy + dz * dz > bound * bound) return false;
+    const double bound = m->geom_rbound[g1] + m->geom_rbound[g2] + margin;
+    if (dx * dx + dy * dy + dz * dz > bound * bound) return 0;
   }
-  mjfCollision collide = mjCOLLISIONFUNC[m->geom_type[g1]][m->geom_type[g2]];
-  if (!collide) return false;
+  mjfCollision fn = mjCOLLISIONFUNC[m->geom_type[g1]][m->geom_type[g2]];
+  if (!fn) return 0;
   ++narrow_calls_;
-  return collide(m, d_, scratch_, g1, g2, p.margin) > 0;
+  return fn(m, d_, scratch_, g1, g2, margin);
+}
+
+bool ValidityChecker::pair_in_contact(const GeomPair& p, double tolerance) {
+  const int n = collide(p, p.margin);
+  if (tolerance <= 0) return n > 0;
+  for (int i = 0; i < n; ++i) {
+    if (scratch_[i].dist < -tolerance) return true;
+  }
+  return false;
+}
+
+double ValidityChecker::pair_distance(const GeomPair& p, double cap) {
+  const int n = collide(p, cap);
+  double dist = cap;
+  for (int i = 0; i < n; ++i) dist = std::min(dist, scratch_[i].dist);
+  return dist;
 }
 
 void ValidityChecker::update_moving_kinematics() {
@@ -130,15 +268,38 @@ void ValidityChecker::update_moving_kinematics() {
   }
 }
 
+void ValidityChecker::set_values(const double* values) {
+  for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
+  update_moving_kinematics();
+  for (size_t k : moving_attachments_) place_attached(attachments_[k]);
+}
+
 bool ValidityChecker::in_collision(const double* values) {
   ++checks_;
-  for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
-  if (static_collision_) return true;
-  update_moving_kinematics();
+  if (static_collision_) {
+    for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
+    return true;
+  }
+  set_values(values);
   for (const GeomPair& p : changing_pairs_) {
     if (pair_in_contact(p)) return true;
   }
+  for (const AttachedPair& p : attached_pairs_) {
+    if (pair_in_contact(p.pair, p.tolerance)) return true;
+  }
   return false;
+}
+
+double ValidityChecker::distance(const double* values, double cap_m) {
+  set_values(values);
+  double dist = cap_m;
+  for (const GeomPair& p : changing_pairs_) dist = std::min(dist, pair_distance(p, cap_m));
+  for (const AttachedPair& p : attached_pairs_) {
+    double pd = pair_distance(p.pair, cap_m);
+    if (pd < 0 && pd >= -p.tolerance) pd = 0;
+    dist = std::min(dist, pd);
+  }
+  return dist;
 }
 
 }  // namespace taskmatrix::mujoco

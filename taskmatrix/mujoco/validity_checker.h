@@ -13,6 +13,7 @@
 // Verdicts are identical to the raw check; a test compares them on 100,000 configurations.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -20,9 +21,33 @@
 
 namespace taskmatrix::mujoco {
 
+// A task object held by the robot: it moves rigidly with `holder_body` and counts as part of
+// the robot, except against `hand_bodies` (the hand holding it) and, within
+// `support_tolerance_m` of penetration, against `support_geoms` (what it rested on when it
+// was grasped, so lifting it off a table is not a collision).
+struct Attachment {
+  int body = -1;         // the object's root body: a child of the world with a free joint
+  int holder_body = -1;  // robot body
+  std::array<double, 3> pos{0, 0, 0};      // object frame in the holder's frame
+  std::array<double, 4> quat{1, 0, 0, 0};  // w, x, y, z
+  std::vector<int> hand_bodies;
+  std::vector<int> support_geoms;
+  double support_tolerance_m = 0.005;
+};
+
+// Writes the attached objects' free-joint qpos from their holders' poses in `d` (which must be
+// current for the holders: after mj_kinematics) and zeroes their velocities.
+void place_attachments(const mjModel* m, mjData* d, const std::vector<Attachment>& attachments);
+
+// True if contact `c` counts as a collision of the robot or what it holds.
+bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjContact& c,
+                               const std::vector<Attachment>& attachments);
+
 // Reference check on the worker's full model and data: runs mj_kinematics and
 // mj_collision with data->qpos as it is.
-bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d);
+// With attachments, their objects are first moved to their holders (mj_kinematics twice).
+bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
+                            const std::vector<Attachment>& attachments = {});
 
 class ValidityChecker {
  public:
@@ -30,7 +55,8 @@ class ValidityChecker {
   // Binds to the worker's current state (data->qpos): pairs that no moving joint can change
   // are evaluated once here, and the poses of bodies that do not move are taken from it.
   ValidityChecker(const Scene& scene, const mjModel* m, mjData* d,
-                  const std::vector<int>& moving_joints);
+                  const std::vector<int>& moving_joints,
+                  const std::vector<Attachment>& attachments = {});
 
   // True if the pairs that cannot change are already in contact at the bound state: then
   // every configuration is invalid (a start in collision with itself or the world).
@@ -40,13 +66,27 @@ class ValidityChecker {
   // moving bodies and geoms in `d`, and returns true if any robot geom is in contact.
   bool in_collision(const double* values);
 
+  // Smallest signed distance (m) between the geoms the moving joints move (attached objects
+  // included) and everything they may touch, at `values`; capped at `cap_m`. Penetration
+  // within an attachment's support tolerance counts as distance 0.
+  double distance(const double* values, double cap_m);
+
   std::uint64_t checks() const { return checks_; }
   size_t changing_pair_count() const { return changing_pairs_.size(); }
   std::uint64_t narrow_phase_calls() const { return narrow_calls_; }
 
  private:
+  struct AttachedPair {
+    GeomPair pair;
+    double tolerance;  // allowed penetration
+  };
+  void set_values(const double* values);
   void update_moving_kinematics();
-  bool pair_in_contact(const GeomPair& p);
+  void place_attached(const Attachment& a);
+  // Number of contacts MuJoCo's narrow phase reports for the pair within `margin`, in scratch_.
+  int collide(const GeomPair& p, double margin);
+  bool pair_in_contact(const GeomPair& p, double tolerance = 0);
+  double pair_distance(const GeomPair& p, double cap);
 
   const Scene& scene_;
   const mjModel* m_;
@@ -56,6 +96,9 @@ class ValidityChecker {
   std::vector<int> moving_bodies_;  // in increasing id order: parents first
   std::vector<int> moving_geoms_;
   std::vector<GeomPair> changing_pairs_;
+  std::vector<Attachment> attachments_;
+  std::vector<size_t> moving_attachments_;    // indices into attachments_
+  std::vector<AttachedPair> attached_pairs_;  // pairs that move with moving attachments
   bool static_collision_ = false;
   std::uint64_t checks_ = 0;
   std::uint64_t narrow_calls_ = 0;

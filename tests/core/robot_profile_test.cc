@@ -26,6 +26,7 @@ RobotProfile valid_profile() {
   p.postures = {{"rest", {{"left_arm", {0, 0}}}},
                 {"hand_open", {{"left_hand", {0, 0}}}},
                 {"fist", {{"left_hand", {1, 1}}}}};
+  for (const ChainSpec& c : p.chains) p.speed_limits[c.name] = {1.0, 2.0};
   return p;
 }
 
@@ -78,6 +79,21 @@ TEST(RobotProfile, FingersMustBelongToTheirHandChain) {
   p = valid_profile();
   p.hands[0].fingers[0].bodies = {"only_one"};
   EXPECT_NE(error_of(p).find("needs one body per joint"), std::string::npos);
+}
+
+TEST(RobotProfile, EveryChainNeedsPositiveSpeedLimits) {
+  RobotProfile p = valid_profile();
+  p.speed_limits.erase("head");
+  EXPECT_NE(error_of(p).find("speed_limits: has no entry for chain 'head'"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.speed_limits["left_arm"].acceleration = NAN;
+  EXPECT_NE(error_of(p).find("speed_limits.left_arm: velocity and acceleration must be positive"),
+            std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.speed_limits["tail"] = {1, 1};
+  EXPECT_NE(error_of(p).find("speed_limits.tail: names unknown chain"), std::string::npos);
 }
 
 TEST(RobotProfile, BaseHasThreeJointsAndHeightIsPositive) {

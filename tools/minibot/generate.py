@@ -54,6 +54,15 @@ CAM_FOVY = 60
 
 # Actuator gains per chain (MJCF <position kp>; the same numbers go to the URDF profile's
 # actuator_kp so that both variants get identical servos).
+SPEED_LIMITS = {  # chain: (max joint velocity, max joint acceleration)
+    "base": (0.4, 0.8),
+    "torso": (0.8, 2.0),
+    "head": (1.5, 4.0),
+    "left_arm": (1.2, 3.0),
+    "right_arm": (1.2, 3.0),
+    "left_hand": (2.0, 8.0),
+    "right_hand": (2.0, 8.0),
+}
 KP = {"base": 1000, "torso": 800, "head": 300, "left_arm": 500, "right_arm": 500,
       "left_hand": 30, "right_hand": 30}
 
@@ -403,6 +412,9 @@ def write_profile(links, path, variant):
         out.append("  %s:" % pname)
         for chain, values in posture.items():
             out.append("    %-11s %s" % (chain + ":", ylist(values)))
+    out.append("speed_limits:                # per chain: joint velocity (rad/s, m/s) and acceleration")
+    for chain, (vel, acc) in SPEED_LIMITS.items():
+        out.append("  %-11s {velocity: %s, acceleration: %s}" % (chain + ":", fmt(vel), fmt(acc)))
     out.append("actuator_kp:")
     for chain, kp in KP.items():
         out.append("  %-11s %s" % (chain + ":", fmt(kp)))

@@ -1,0 +1,538 @@
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "taskmatrix/mujoco/kinematics.h"
+#include "taskmatrix/mujoco/motion_planner.h"
+
+namespace taskmatrix::mujoco {
+
+namespace {
+
+constexpr double kLimitSlack = 1e-9;
+
+std::string body_name(const mjModel* m, int body) {
+  const char* name = mj_id2name(m, mjOBJ_BODY, body);
+  return name ? name : "body " + std::to_string(body);
+}
+
+core::PlanResult plan_failure(core::PlanStatus status, std::string message) {
+  core::PlanResult r;
+  r.status = status;
+  r.message = std::move(message);
+  return r;
+}
+
+}  // namespace
+
+MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOptions options)
+    : scene_(std::move(scene)), worker_(scene_) {
+  const mjModel* m = worker_.model();
+  if (!(std::isfinite(options.control_rate_hz) && options.control_rate_hz > 0)) {
+    throw std::invalid_argument("control rate must be a positive number of Hz");
+  }
+  substeps_ =
+      std::max(1, static_cast<int>(std::lround(1.0 / (options.control_rate_hz * m->opt.timestep))));
+  period_ = substeps_ * m->opt.timestep;
+  query_ = make_data(m);
+  joint_state_.assign(m->njnt, JointState{-1, -1, -1, -1});
+  const core::RobotProfile& robot = scene_->robot();
+  for (const ChainIndex& c : scene_->chains()) {
+    core::ChainInfo info;
+    info.name = c.name;
+    info.lower = c.lower;
+    info.upper = c.upper;
+    info.speed = robot.speed_limits.at(c.name);
+    if (const core::ChainSpec* spec = robot.find_chain(c.name)) {
+      info.joints = spec->joints;
+      info.end_effector = spec->end_effector;
+    }
+    for (int j : c.joints) {
+      JointState js{j, m->jnt_qposadr[j], m->jnt_dofadr[j], -1};
+      for (int a = 0; a < m->nu; ++a) {
+        if (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == j) js.actuator = a;
+      }
+      joint_state_[j] = js;  // Scene::load checked that every chain joint has an actuator
+    }
+    chains_.push_back(std::move(info));
+  }
+  target_pos_.assign(m->njnt, 0.0);
+  target_vel_.assign(m->njnt, 0.0);
+  target_acc_.assign(m->njnt, 0.0);
+  acc_full_.assign(m->nv, 0.0);
+  mass_times_acc_.assign(m->nv, 0.0);
+  reset();
+}
+
+void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
+  worker_.apply_layout(layout);
+  mj_forward(worker_.model(), worker_.data());
+}
+
+void MujocoSkillset::reset() {
+  worker_.reset_to_start();
+  attachments_.clear();
+  attachment_names_.clear();
+  mjData* d = worker_.data();
+  for (const JointState& js : joint_state_) {
+    if (js.joint < 0) continue;
+    target_pos_[js.joint] = d->qpos[js.qpos_adr];
+    target_vel_[js.joint] = 0;
+    target_acc_[js.joint] = 0;
+    d->ctrl[js.actuator] = target_pos_[js.joint];
+  }
+  mj_forward(worker_.model(), d);
+}
+
+std::vector<int> MujocoSkillset::joints_of(const std::vector<std::string>& chain_names) const {
+  if (chain_names.empty()) throw std::invalid_argument("no chains given");
+  std::vector<int> joints;
+  for (const std::string& name : chain_names) {
+    const ChainIndex* found = nullptr;
+    for (const ChainIndex& c : scene_->chains()) {
+      if (c.name == name) found = &c;
+    }
+    if (!found) {
+      throw std::invalid_argument("robot '" + profile().name + "' has no chain '" + name + "'");
+    }
+    for (int j : found->joints) {
+      if (std::find(joints.begin(), joints.end(), j) != joints.end()) {
+        throw std::invalid_argument("chain '" + name + "' is listed twice");
+      }
+      joints.push_back(j);
+    }
+  }
+  return joints;
+}
+
+void MujocoSkillset::check_values(const std::vector<std::string>& chain_names,
+                                  const std::vector<int>& joints, const std::vector<double>& values,
+                                  const char* what) const {
+  if (values.size() != joints.size()) {
+    std::string chains;
+    for (const std::string& c : chain_names) chains += (chains.empty() ? "" : ",") + c;
+    throw std::invalid_argument(std::string(what) + " has " + std::to_string(values.size()) +
+                                " values but chains [" + chains + "] have " +
+                                std::to_string(joints.size()) + " joints");
+  }
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      throw std::invalid_argument(std::string(what) + " value for joint '" +
+                                  mj_id2name(worker_.model(), mjOBJ_JOINT, joints[i]) +
+                                  "' is not finite");
+    }
+  }
+}
+
+bool MujocoSkillset::within_limits(const std::vector<int>& joints,
+                                   const std::vector<double>& values) const {
+  const mjModel* m = worker_.model();
+  for (size_t i = 0; i < joints.size(); ++i) {
+    if (values[i] < m->jnt_range[2 * joints[i]] - kLimitSlack ||
+        values[i] > m->jnt_range[2 * joints[i] + 1] + kLimitSlack) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void MujocoSkillset::sync_query() {
+  const mjModel* m = worker_.model();
+  const mjData* sim = worker_.data();
+  mjData* q = query_.get();
+  mju_copy(q->qpos, sim->qpos, m->nq);
+  mju_copy(q->mocap_pos, sim->mocap_pos, 3 * m->nmocap);
+  mju_copy(q->mocap_quat, sim->mocap_quat, 4 * m->nmocap);
+  mj_kinematics(m, q);
+}
+
+int MujocoSkillset::object_body(const std::string& object) const {
+  const auto it = scene_->environment().objects.find(object);
+  if (it == scene_->environment().objects.end() || it->second.bodies.empty()) return -1;
+  return mj_name2id(worker_.model(), mjOBJ_BODY, it->second.bodies.front().c_str());
+}
+
+std::vector<char> MujocoSkillset::moved_bodies(const std::vector<int>& joints) const {
+  const mjModel* m = worker_.model();
+  std::vector<char> moved(m->nbody, 0);
+  for (int j : joints) moved[m->jnt_bodyid[j]] = 1;
+  for (int b = 1; b < m->nbody; ++b) {
+    if (moved[m->body_parentid[b]]) moved[b] = 1;
+  }
+  for (const Attachment& a : attachments_) {  // held objects move with their holders
+    if (!moved[a.holder_body]) continue;
+    for (int b = a.body; b < m->nbody && m->body_rootid[b] == a.body; ++b) moved[b] = 1;
+  }
+  return moved;
+}
+
+std::vector<double> MujocoSkillset::configuration(
+    const std::vector<std::string>& chain_names) const {
+  std::vector<double> values;
+  for (int j : joints_of(chain_names))
+    values.push_back(worker_.data()->qpos[joint_state_[j].qpos_adr]);
+  return values;
+}
+
+namespace {
+
+// Object names (the environment's symbolic names) stand for their first body.
+std::string frame_name(const Scene& scene, const std::string& frame) {
+  const auto it = scene.environment().objects.find(frame);
+  if (it != scene.environment().objects.end() && !it->second.bodies.empty())
+    return it->second.bodies.front();
+  return frame;
+}
+
+}  // namespace
+
+core::Pose MujocoSkillset::frame_pose(const std::string& frame) const {
+  try {
+    return mujoco::frame_pose(worker_.data(),
+                              resolve_frame(*scene_, worker_.data(), frame_name(*scene_, frame)));
+  } catch (const std::out_of_range&) {
+    throw std::invalid_argument("no frame or object '" + frame + "' in robot " + profile().name +
+                                " or environment " + scene_->environment().name);
+  }
+}
+
+core::Pose MujocoSkillset::frame_pose_at(const std::vector<std::string>& chain_names,
+                                         const std::vector<double>& values,
+                                         const std::string& frame) {
+  const std::vector<int> joints = joints_of(chain_names);
+  check_values(chain_names, joints, values, "configuration");
+  const mjModel* m = worker_.model();
+  mjData* q = query_.get();
+  sync_query();
+  for (size_t i = 0; i < joints.size(); ++i) q->qpos[joint_state_[joints[i]].qpos_adr] = values[i];
+  mj_kinematics(m, q);
+  if (!attachments_.empty()) {
+    place_attachments(m, q, attachments_);
+    mj_kinematics(m, q);
+  }
+  try {
+    return mujoco::frame_pose(q, resolve_frame(*scene_, q, frame_name(*scene_, frame)));
+  } catch (const std::out_of_range&) {
+    throw std::invalid_argument("no frame or object '" + frame + "'");
+  }
+}
+
+core::IkResult MujocoSkillset::solve_ik(const std::vector<std::string>& chain_names,
+                                        const std::string& frame, const core::Pose& target,
+                                        const core::IkOptions& options) {
+  std::vector<int> joints;
+  try {
+    joints = joints_of(chain_names);
+  } catch (const std::invalid_argument& e) {
+    core::IkResult r;
+    r.reason = e.what();
+    return r;
+  }
+  sync_query();
+  return mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints,
+                          frame_name(*scene_, frame), target, options, attachments_);
+}
+
+bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
+                              const std::vector<double>& values) {
+  const std::vector<int> joints = joints_of(chain_names);
+  check_values(chain_names, joints, values, "configuration");
+  if (!within_limits(joints, values)) return false;
+  sync_query();
+  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  return !checker.in_collision(values.data());
+}
+
+double MujocoSkillset::clearance(const std::vector<std::string>& chain_names,
+                                 const std::vector<double>& values, double max_distance_m) {
+  const std::vector<int> joints = joints_of(chain_names);
+  check_values(chain_names, joints, values, "configuration");
+  if (!(std::isfinite(max_distance_m) && max_distance_m > 0)) {
+    throw std::invalid_argument("clearance cap must be a positive number of metres");
+  }
+  sync_query();
+  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  return checker.distance(values.data(), max_distance_m);
+}
+
+core::PlanResult MujocoSkillset::plan_to_configuration(const std::vector<std::string>& chain_names,
+                                                       const std::vector<double>& goal,
+                                                       const core::PlanOptions& options) {
+  std::vector<int> joints;
+  try {
+    joints = joints_of(chain_names);
+  } catch (const std::invalid_argument& e) {
+    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
+  }
+  sync_query();
+  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  return planner.plan({goal}, options);
+}
+
+core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& chain_names,
+                                               const std::string& frame,
+                                               const std::vector<core::Pose>& targets,
+                                               const core::PlanOptions& options,
+                                               const core::IkOptions& ik) {
+  std::vector<int> joints;
+  try {
+    joints = joints_of(chain_names);
+  } catch (const std::invalid_argument& e) {
+    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
+  }
+  if (targets.empty()) return plan_failure(core::PlanStatus::kInvalidInput, "no target poses");
+  core::PlanResult total;
+  total.status = core::PlanStatus::kIkFailure;
+  std::string ik_reasons;
+  bool any_planned = false;
+  for (size_t k = 0; k < targets.size(); ++k) {
+    sync_query();
+    const core::IkResult solved =
+        mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame_name(*scene_, frame),
+                         targets[k], ik, attachments_);
+    total.ik_time_s += solved.time_s;
+    if (solved.status == core::IkStatus::kInvalidInput) {
+      total.status = core::PlanStatus::kInvalidInput;
+      total.message = "target pose " + std::to_string(k) + ": " + solved.reason;
+      return total;
+    }
+    if (solved.status != core::IkStatus::kSolved) {
+      ik_reasons += (ik_reasons.empty() ? "" : "; ") + std::string("pose ") + std::to_string(k) +
+                    ": " + core::to_string(solved.status) + " (" + solved.reason + ")";
+      continue;
+    }
+    MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
+    const core::PlanResult r = planner.plan(solved.solutions, options);
+    any_planned = true;
+    total.planning_time_s += r.planning_time_s;
+    total.simplification_time_s += r.simplification_time_s;
+    total.simplification_hit_time_limit |= r.simplification_hit_time_limit;
+    total.collision_checks += r.collision_checks;
+    total.graph_states += r.graph_states;
+    total.plan_calls += r.plan_calls;
+    total.status = r.status;
+    total.message = "pose " + std::to_string(k) + ": " + r.message;
+    if (r.status == core::PlanStatus::kInvalidStart || r.status == core::PlanStatus::kInvalidInput)
+      return total;  // no other pose can do better
+    if (r.success()) {
+      total.path = r.path;
+      total.goal_index = static_cast<int>(k);
+      total.message.clear();
+      return total;
+    }
+  }
+  if (!any_planned) total.message = "no target pose has an IK solution: " + ik_reasons;
+  return total;
+}
+
+core::PlanResult MujocoSkillset::plan_to_region(const std::vector<std::string>& chain_names,
+                                                const core::GoalRegion& region,
+                                                const core::PlanOptions& options) {
+  std::vector<int> joints;
+  try {
+    joints = joints_of(chain_names);
+  } catch (const std::invalid_argument& e) {
+    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
+  }
+  if (!region.sample || region.max_draws <= 0 || region.max_goals <= 0) {
+    return plan_failure(core::PlanStatus::kInvalidInput,
+                        "a goal region needs a sampler and positive draw and goal counts");
+  }
+  sync_query();
+  std::vector<std::vector<double>> goals;
+  {
+    ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
+    std::mt19937_64 rng(options.seed);
+    for (int draw = 0; draw < region.max_draws && static_cast<int>(goals.size()) < region.max_goals;
+         ++draw) {
+      std::optional<std::vector<double>> q = region.sample(rng);
+      if (!q) continue;
+      if (q->size() != joints.size() ||
+          !std::all_of(q->begin(), q->end(), [](double v) { return std::isfinite(v); })) {
+        return plan_failure(core::PlanStatus::kInvalidInput,
+                            "the goal region sampler returned a configuration of the wrong size "
+                            "or with NaN");
+      }
+      if (within_limits(joints, *q) && !checker.in_collision(q->data())) goals.push_back(*q);
+    }
+  }
+  if (goals.empty()) {
+    return plan_failure(
+        core::PlanStatus::kInvalidGoal,
+        "none of " + std::to_string(region.max_draws) + " draws from the goal region is valid");
+  }
+  sync_query();
+  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  return planner.plan(goals, options);
+}
+
+double MujocoSkillset::time() const { return worker_.data()->time; }
+
+void MujocoSkillset::command(const std::vector<std::string>& chain_names,
+                             const std::vector<double>& positions,
+                             const std::vector<double>& velocities,
+                             const std::vector<double>& accelerations) {
+  const std::vector<int> joints = joints_of(chain_names);
+  check_values(chain_names, joints, positions, "command");
+  if (!velocities.empty()) check_values(chain_names, joints, velocities, "command velocity");
+  if (!accelerations.empty())
+    check_values(chain_names, joints, accelerations, "command acceleration");
+  const mjModel* m = worker_.model();
+  for (size_t i = 0; i < joints.size(); ++i) {
+    const double lo = m->jnt_range[2 * joints[i]], hi = m->jnt_range[2 * joints[i] + 1];
+    if (positions[i] < lo - kLimitSlack || positions[i] > hi + kLimitSlack) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]", positions[i],
+                    mj_id2name(m, mjOBJ_JOINT, joints[i]), lo, hi);
+      throw std::invalid_argument(buf);
+    }
+  }
+  mjData* d = worker_.data();
+  for (size_t i = 0; i < joints.size(); ++i) {
+    const int j = joints[i];
+    target_pos_[j] = std::clamp(positions[i], m->jnt_range[2 * j], m->jnt_range[2 * j + 1]);
+    target_vel_[j] = velocities.empty() ? 0.0 : velocities[i];
+    target_acc_[j] = accelerations.empty() ? 0.0 : accelerations[i];
+    d->ctrl[joint_state_[j].actuator] = target_pos_[j];
+  }
+}
+
+core::StepReport MujocoSkillset::advance() {
+  const mjModel* m = worker_.model();
+  mjData* d = worker_.data();
+  core::StepReport report;
+  const double t_end = d->time + period_;
+  const int bad_before = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
+                         d->warning[mjWARN_BADQPOS].number;
+  for (int s = 0; s < substeps_; ++s) {
+    // Targets are samples for the end of the period: run along the commanded velocity.
+    const double lead = t_end - (d->time + m->opt.timestep);
+    std::fill(acc_full_.begin(), acc_full_.end(), 0.0);
+    for (const JointState& js : joint_state_) {
+      if (js.joint < 0) continue;
+      d->ctrl[js.actuator] = target_pos_[js.joint] - target_vel_[js.joint] * lead;
+      acc_full_[js.dof_adr] = target_acc_[js.joint];
+    }
+    mj_mulM(m, d, mass_times_acc_.data(), acc_full_.data());
+    for (const JointState& js : joint_state_) {
+      if (js.joint < 0) continue;
+      const int v = js.dof_adr;
+      d->qfrc_applied[v] =
+          d->qfrc_bias[v] + mass_times_acc_[v] + m->dof_damping[v] * target_vel_[js.joint];
+    }
+    if (!attachments_.empty()) {
+      mj_kinematics(m, d);
+      place_attachments(m, d, attachments_);
+    }
+    mj_step(m, d);
+  }
+  for (const JointState& js : joint_state_) {
+    if (js.joint >= 0) d->ctrl[js.actuator] = target_pos_[js.joint];
+  }
+  if (!attachments_.empty()) {
+    mj_kinematics(m, d);
+    place_attachments(m, d, attachments_);
+  }
+  mj_forward(m, d);
+  const int bad_after = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
+                        d->warning[mjWARN_BADQPOS].number;
+  bool finite = true;
+  for (int i = 0; i < m->nq; ++i) finite = finite && std::isfinite(d->qpos[i]);
+  if (!finite || bad_after > bad_before) {
+    report.unstable = true;
+    char buf[160];
+    std::snprintf(
+        buf, sizeof buf, "simulation diverged near t = %.3f s (%s)", d->time,
+        finite ? "MuJoCo reported bad accelerations and reset the state" : "non-finite positions");
+    report.message = buf;
+  }
+  return report;
+}
+
+std::vector<core::Collision> MujocoSkillset::collisions(
+    const std::vector<std::string>& chain_names) const {
+  const std::vector<char> moved = moved_bodies(joints_of(chain_names));
+  const mjModel* m = worker_.model();
+  const mjData* d = worker_.data();
+  std::vector<core::Collision> out;
+  auto part_name = [&](int body) {
+    for (size_t k = 0; k < attachments_.size(); ++k) {
+      if (m->body_rootid[body] == attachments_[k].body) return attachment_names_[k];
+    }
+    return body_name(m, body);
+  };
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    const int b1 = m->geom_bodyid[c.geom1], b2 = m->geom_bodyid[c.geom2];
+    if (!moved[b1] && !moved[b2]) continue;
+    if (!counts_as_robot_collision(*scene_, m, c, attachments_)) continue;
+    const int mine = moved[b1] ? b1 : b2, other = moved[b1] ? b2 : b1;
+    out.push_back({part_name(mine), part_name(other), -c.dist});
+  }
+  return out;
+}
+
+void MujocoSkillset::attach(const std::string& object, const std::string& side) {
+  const mjModel* m = worker_.model();
+  const int body = object_body(object);
+  const auto spec = scene_->environment().objects.find(object);
+  if (body < 0 || (spec->second.kind != core::ObjectKind::kGraspable &&
+                   spec->second.kind != core::ObjectKind::kTool)) {
+    throw std::invalid_argument("'" + object + "' is not a graspable object or tool of " +
+                                scene_->environment().name);
+  }
+  if (m->body_parentid[body] != 0 || m->body_jntnum[body] != 1 ||
+      m->jnt_type[m->body_jntadr[body]] != mjJNT_FREE) {
+    throw std::invalid_argument("object '" + object + "' is not a free body and cannot be held");
+  }
+  if (std::find(attachment_names_.begin(), attachment_names_.end(), object) !=
+      attachment_names_.end()) {
+    throw std::invalid_argument("object '" + object + "' is already attached");
+  }
+  const core::HandSpec* hand = profile().find_hand(side);
+  if (!hand) throw std::invalid_argument("no hand on side '" + side + "'");
+  mjData* d = worker_.data();
+  mj_forward(m, d);
+  Attachment a;
+  a.body = body;
+  a.holder_body = resolve_frame(*scene_, d, hand->palm).body;
+  for (int b = a.holder_body; b < m->nbody; ++b) {
+    int up = b;
+    while (up > a.holder_body) up = m->body_parentid[up];
+    if (up == a.holder_body) a.hand_bodies.push_back(b);
+  }
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    const int r1 = m->body_rootid[m->geom_bodyid[c.geom1]];
+    const int r2 = m->body_rootid[m->geom_bodyid[c.geom2]];
+    const int other = r1 == body ? c.geom2 : (r2 == body ? c.geom1 : -1);
+    if (other >= 0 && !scene_->is_robot_geom(other)) a.support_geoms.push_back(other);
+  }
+  // Object frame in the holder frame, from the current poses.
+  double inv_pos[3], inv_quat[4];
+  mju_negPose(inv_pos, inv_quat, d->xpos + 3 * a.holder_body, d->xquat + 4 * a.holder_body);
+  mju_mulPose(a.pos.data(), a.quat.data(), inv_pos, inv_quat, d->xpos + 3 * body,
+              d->xquat + 4 * body);
+  attachments_.push_back(std::move(a));
+  attachment_names_.push_back(object);
+  place_attachments(m, d, attachments_);
+  mj_forward(m, d);
+}
+
+void MujocoSkillset::detach(const std::string& object) {
+  const auto it = std::find(attachment_names_.begin(), attachment_names_.end(), object);
+  if (it == attachment_names_.end()) {
+    throw std::invalid_argument("object '" + object + "' is not attached");
+  }
+  const size_t k = static_cast<size_t>(it - attachment_names_.begin());
+  attachments_.erase(attachments_.begin() + static_cast<long>(k));
+  attachment_names_.erase(it);
+  mj_forward(worker_.model(), worker_.data());
+}
+
+std::vector<std::string> MujocoSkillset::attached_objects() const { return attachment_names_; }
+
+}  // namespace taskmatrix::mujoco

@@ -1,0 +1,107 @@
+// The skillset on MuJoCo + OMPL: one worker's simulated robot in one scene.
+//
+// Two mjData on the worker's model copy: `sim` is the world as simulated; `query` is scratch
+// for FK, IK, validity, clearance and planning, synchronised from `sim` before each query,
+// so a query never disturbs the simulation.
+//
+// Execution: each joint has a position actuator; advance() runs the control period as
+// mj_step substeps with a computed-torque feed-forward on the robot's joints
+// (qfrc_applied = bias forces + M * commanded acceleration + damping * commanded velocity),
+// so tracking error reflects the trajectory and the gains, not gravity. Held objects are
+// moved kinematically with their holder before every substep.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "taskmatrix/core/skillset.h"
+#include "taskmatrix/mujoco/scene.h"
+#include "taskmatrix/mujoco/validity_checker.h"
+
+namespace taskmatrix::mujoco {
+
+struct SimulationOptions {
+  double control_rate_hz = 100.0;  // rounded to a whole number of model timesteps per period
+};
+
+class MujocoSkillset final : public core::Skillset {
+ public:
+  // Throws std::invalid_argument for a control rate that is not positive and finite.
+  MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOptions options = {});
+
+  // Backend set-up, for the harness: obstacles of a layout, and the start state (robot at the
+  // environment's start in the rest posture, targets there, time 0, nothing attached).
+  void apply_layout(const core::ObstacleLayout& layout);
+  void reset();
+
+  const Scene& scene() const { return *scene_; }
+  const mjModel* model() const { return worker_.model(); }
+  const mjData* sim_data() const { return worker_.data(); }
+  const std::vector<Attachment>& attachments() const { return attachments_; }
+
+  // core::Skillset
+  const core::RobotProfile& profile() const override { return scene_->robot(); }
+  const std::vector<core::ChainInfo>& chains() const override { return chains_; }
+  std::vector<double> configuration(const std::vector<std::string>& chain_names) const override;
+  core::Pose frame_pose(const std::string& frame) const override;
+  core::Pose frame_pose_at(const std::vector<std::string>& chain_names,
+                           const std::vector<double>& values, const std::string& frame) override;
+  core::IkResult solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
+                          const core::Pose& target, const core::IkOptions& options) override;
+  bool is_valid(const std::vector<std::string>& chain_names,
+                const std::vector<double>& values) override;
+  double clearance(const std::vector<std::string>& chain_names, const std::vector<double>& values,
+                   double max_distance_m) override;
+  core::PlanResult plan_to_configuration(const std::vector<std::string>& chain_names,
+                                         const std::vector<double>& goal,
+                                         const core::PlanOptions& options) override;
+  core::PlanResult plan_to_poses(const std::vector<std::string>& chain_names,
+                                 const std::string& frame, const std::vector<core::Pose>& targets,
+                                 const core::PlanOptions& options,
+                                 const core::IkOptions& ik) override;
+  core::PlanResult plan_to_region(const std::vector<std::string>& chain_names,
+                                  const core::GoalRegion& region,
+                                  const core::PlanOptions& options) override;
+  double time() const override;
+  double control_period() const override { return period_; }
+  void command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
+               const std::vector<double>& velocities = {},
+               const std::vector<double>& accelerations = {}) override;
+  core::StepReport advance() override;
+  std::vector<core::Collision> collisions(
+      const std::vector<std::string>& chain_names) const override;
+  void attach(const std::string& object, const std::string& side) override;
+  void detach(const std::string& object) override;
+  std::vector<std::string> attached_objects() const override;
+
+ private:
+  struct JointState {
+    int joint, qpos_adr, dof_adr, actuator;
+  };
+  // Joint ids of the chains, in order; throws std::invalid_argument for an unknown chain.
+  std::vector<int> joints_of(const std::vector<std::string>& chain_names) const;
+  // Throws std::invalid_argument unless `values` fits the chains and is finite.
+  void check_values(const std::vector<std::string>& chain_names, const std::vector<int>& joints,
+                    const std::vector<double>& values, const char* what) const;
+  bool within_limits(const std::vector<int>& joints, const std::vector<double>& values) const;
+  void sync_query();
+  int object_body(const std::string& object) const;  // -1 if not an object's body
+  // Robot bodies the chains' joints move, as a per-body mask.
+  std::vector<char> moved_bodies(const std::vector<int>& joints) const;
+
+  std::shared_ptr<const Scene> scene_;
+  WorkerScene worker_;
+  DataPtr query_;
+  std::vector<core::ChainInfo> chains_;
+  std::vector<JointState> joint_state_;  // indexed by joint id (robot hinge/slide joints)
+  std::vector<double> target_pos_, target_vel_, target_acc_;  // indexed by joint id
+  std::vector<double> acc_full_, mass_times_acc_;             // nv scratch
+  std::vector<Attachment> attachments_;
+  std::vector<std::string> attachment_names_;
+  double period_ = 0.01;
+  int substeps_ = 5;
+  double period_start_ = 0;
+};
+
+}  // namespace taskmatrix::mujoco
