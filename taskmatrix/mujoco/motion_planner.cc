@@ -122,9 +122,19 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   for (const auto& g : goals) {
     if (g.size() != n)
       return fail(core::PlanStatus::kInvalidInput, "a goal has the wrong number of values");
-    for (double v : g) {
-      if (!std::isfinite(v))
-        return fail(core::PlanStatus::kInvalidInput, "a goal holds NaN or infinity");
+    for (size_t i = 0; i < n; ++i) {
+      const char* joint = mj_id2name(m, mjOBJ_JOINT, joints_[i]);
+      if (!std::isfinite(g[i])) {
+        return fail(core::PlanStatus::kInvalidInput,
+                    std::string("goal value for joint '") + joint + "' is not finite");
+      }
+      if (g[i] < lo[i] - 1e-9 || g[i] > hi[i] + 1e-9) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "goal value %.6g for joint '%s' is outside its limits [%.6g, %.6g]", g[i],
+                      joint, lo[i], hi[i]);
+        return fail(core::PlanStatus::kInvalidInput, buf);
+      }
     }
   }
 
@@ -184,8 +194,9 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   }
   if (goal_index_of_state.empty()) {
     restore();
-    return fail(core::PlanStatus::kInvalidGoal,
-                "every goal configuration is in collision or outside limits");
+    return fail(core::PlanStatus::kInvalidGoal, goals.size() == 1
+                                                    ? "the goal configuration is in collision"
+                                                    : "every goal configuration is in collision");
   }
   pdef->setGoal(goal_states);
 

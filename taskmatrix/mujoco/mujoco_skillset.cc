@@ -400,6 +400,23 @@ void MujocoSkillset::command(const std::vector<std::string>& chain_names,
   }
 }
 
+void MujocoSkillset::set_configuration(const std::vector<std::string>& chain_names,
+                                       const std::vector<double>& values) {
+  command(chain_names, values);
+  const std::vector<int> joints = joints_of(chain_names);
+  mjData* d = worker_.data();
+  for (size_t i = 0; i < joints.size(); ++i) {
+    d->qpos[joint_state_[joints[i]].qpos_adr] = target_pos_[joints[i]];
+    d->qvel[joint_state_[joints[i]].dof_adr] = 0;
+  }
+  const mjModel* m = worker_.model();
+  if (!attachments_.empty()) {
+    mj_kinematics(m, d);
+    place_attachments(m, d, attachments_);
+  }
+  mj_forward(m, d);
+}
+
 core::StepReport MujocoSkillset::advance() {
   const mjModel* m = worker_.model();
   mjData* d = worker_.data();

@@ -34,6 +34,10 @@ class MujocoSkillset final : public core::Skillset {
   // environment's start in the rest posture, targets there, time 0, nothing attached).
   void apply_layout(const core::ObstacleLayout& layout);
   void reset();
+  // Places the chains at `values` at once (and makes that the held target): set-up of a
+  // trial's initial state, not motion. Throws std::invalid_argument like command().
+  void set_configuration(const std::vector<std::string>& chain_names,
+                         const std::vector<double>& values);
 
   const Scene& scene() const { return *scene_; }
   const mjModel* model() const { return worker_.model(); }

@@ -1,6 +1,7 @@
 #include "taskmatrix/mujoco/validity_checker.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -218,10 +219,31 @@ bool ValidityChecker::pair_in_contact(const GeomPair& p, double tolerance) {
 }
 
 double ValidityChecker::pair_distance(const GeomPair& p, double cap) {
-  const int n = collide(p, cap);
-  double dist = cap;
-  for (int i = 0; i < n; ++i) dist = std::min(dist, scratch_[i].dist);
-  return dist;
+  auto min_dist = [&](int n) {
+    double dist = INFINITY;
+    for (int i = 0; i < n; ++i) dist = std::min(dist, scratch_[i].dist);
+    return dist;
+  };
+  // Touching: MuJoCo's own contact distance (negative when penetrating).
+  if (const int n = collide(p, p.margin); n > 0) return std::min(cap, min_dist(n));
+  const int n_cap = collide(p, cap);
+  if (n_cap == 0) return cap;
+  // Apart but closer than the cap. With a margin, MuJoCo's box and cylinder (libccd) functions
+  // detect the pair reliably but can misreport its distance, so the distance is the smallest
+  // margin at which a contact appears: accept the reported distance if it brackets that
+  // margin, else bisect.
+  const double reported = min_dist(n_cap);
+  constexpr double kResolution = 1e-5;
+  if (reported >= 0 && reported < cap && collide(p, reported + kResolution) > 0 &&
+      (reported <= kResolution || collide(p, reported - kResolution) == 0)) {
+    return reported;
+  }
+  double lo = 0, hi = cap;  // no contact at lo, contact at hi
+  while (hi - lo > kResolution) {
+    const double mid = 0.5 * (lo + hi);
+    (collide(p, mid) > 0 ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 void ValidityChecker::update_moving_kinematics() {

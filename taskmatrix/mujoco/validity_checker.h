@@ -67,8 +67,10 @@ class ValidityChecker {
   bool in_collision(const double* values);
 
   // Smallest signed distance (m) between the geoms the moving joints move (attached objects
-  // included) and everything they may touch, at `values`; capped at `cap_m`. Penetration
-  // within an attachment's support tolerance counts as distance 0.
+  // included) and everything they may touch, at `values`; capped at `cap_m`. Negative values
+  // are MuJoCo's penetration depths; positive ones the smallest margin at which MuJoCo's
+  // narrow phase reports a contact (to 0.01 mm). Penetration within an attachment's support
+  // tolerance counts as distance 0.
   double distance(const double* values, double cap_m);
 
   std::uint64_t checks() const { return checks_; }

@@ -129,7 +129,9 @@ TEST_P(PlanOnBothRobots, InvalidStartInvalidGoalAndBadInputAreNamedAsSuch) {
 
   std::vector<double> outside = goal;
   outside[0] = arm.upper[0] + 0.5;
-  EXPECT_EQ(planner.plan({outside}, options).status, core::PlanStatus::kInvalidGoal);
+  const core::PlanResult beyond = planner.plan({outside}, options);
+  EXPECT_EQ(beyond.status, core::PlanStatus::kInvalidInput);  // rejected, not planned for
+  EXPECT_NE(beyond.message.find("outside its limits"), std::string::npos) << beyond.message;
 
   std::vector<double> nan_goal = goal;
   nan_goal[1] = std::nan("");
