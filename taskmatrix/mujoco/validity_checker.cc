@@ -315,9 +315,13 @@ bool ValidityChecker::in_collision(const double* values) {
 double ValidityChecker::distance(const double* values, double cap_m) {
   set_values(values);
   double dist = cap_m;
-  for (const GeomPair& p : changing_pairs_) dist = std::min(dist, pair_distance(p, cap_m));
+  // Each pair is measured only up to the smallest distance so far: farther pairs cost a
+  // bounding-sphere test or one narrow-phase call.
+  for (const GeomPair& p : changing_pairs_) {
+    dist = std::min(dist, pair_distance(p, std::max(dist, 1e-9)));
+  }
   for (const AttachedPair& p : attached_pairs_) {
-    double pd = pair_distance(p.pair, cap_m);
+    double pd = pair_distance(p.pair, std::max(dist, 1e-9));
     if (pd < 0 && pd >= -p.tolerance) pd = 0;
     dist = std::min(dist, pd);
   }

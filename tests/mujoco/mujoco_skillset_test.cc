@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <thread>
 
 #include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/validity_checker.h"
@@ -507,6 +508,36 @@ TEST_P(SkillsetOnBothRobots, PlanningToAGoalRegionEndsInsideIt) {
   };
   EXPECT_EQ(skills().plan_to_region(chains, nowhere, options).status,
             core::PlanStatus::kInvalidGoal);
+}
+
+TEST_P(SkillsetOnBothRobots, SameSeedSamePathWhenOtherWorkersPlanAtTheSameTime) {
+  const Chains chains = {"torso", "left_arm"};
+  const std::vector<double> goal = valid_configuration(skills(), chains, 61);
+  core::PlanOptions options;
+  options.seed = 17;
+  options.time_limit_s = 20;
+  const core::PlanResult alone = skills().plan_to_configuration(chains, goal, options);
+  ASSERT_TRUE(alone.success()) << alone.message;
+  // Three workers of the same scene plan side by side: two different problems and this one.
+  std::vector<core::PlanResult> results(3);
+  std::vector<std::thread> threads;
+  for (int w = 0; w < 3; ++w) {
+    threads.emplace_back([&, w] {
+      MujocoSkillset worker(test::scene(GetParam(), "kitchen"));
+      worker.apply_layout(worker.scene().make_layout(8, 5));
+      worker.reset();
+      core::PlanOptions o = options;
+      std::vector<double> g = goal;
+      if (w != 1) {
+        o.seed = static_cast<std::uint32_t>(100 + w);
+        g = valid_configuration(worker, chains, 70 + w);
+      }
+      results[w] = worker.plan_to_configuration(chains, g, o);
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(results[1].path, alone.path);
+  EXPECT_EQ(results[1].collision_checks, alone.collision_checks);
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, SkillsetOnBothRobots, ::testing::Values("tallbot", "minibot"));

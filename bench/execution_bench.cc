@@ -1,0 +1,103 @@
+// One control period (10 ms = 5 MuJoCo steps) of tallbot in the kitchen with 12 obstacles,
+// the left arm following a sinusoid:
+//   BM_ControlPeriod_Raw       ctrl written, 5 x mj_step
+//   BM_ControlPeriod_Skillset  MujocoSkillset::command + advance (computed-torque feed-forward
+//                              per step, an mj_forward at the end so poses and contacts are
+//                              current for the programs)
+// and the clearance query used for the min_clearance metric:
+//   BM_Clearance_RawWideMargin mj_kinematics + mj_collision with every geom margin at 0.3 m
+//                              (MuJoCo 2.2.2 has no distance query; this is the nearest raw
+//                              equivalent, and misreports box and cylinder distances)
+//   BM_Clearance_Skillset      clearance of both arms against everything, cap 0.3 m
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "harness/model_catalog.h"
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+
+namespace {
+
+using namespace taskmatrix;
+
+std::unique_ptr<mujoco::MujocoSkillset> make_skillset() {
+  static const std::shared_ptr<const mujoco::Scene> scene = [] {
+    const harness::ModelCatalog catalog(TASKMATRIX_BENCH_ROOT);
+    return mujoco::Scene::load(catalog.robot_dir("tallbot"), catalog.environment_dir("kitchen"));
+  }();
+  auto skills = std::make_unique<mujoco::MujocoSkillset>(scene);
+  skills->apply_layout(scene->make_layout(12, 3));
+  skills->reset();
+  return skills;
+}
+
+std::vector<double> arm_target(const std::vector<double>& rest, double t) {
+  std::vector<double> q = rest;
+  q[0] += 0.3 * std::sin(t);
+  q[3] += 0.2 * std::sin(0.7 * t);
+  return q;
+}
+
+void BM_ControlPeriod_Raw(benchmark::State& state) {
+  auto skills = make_skillset();
+  const mjModel* m = skills->model();
+  mujoco::DataPtr d = mujoco::make_data(m);
+  mju_copy(d->qpos, skills->sim_data()->qpos, m->nq);
+  mju_copy(d->ctrl, skills->sim_data()->ctrl, m->nu);
+  mj_forward(m, d.get());
+  const std::vector<int>& joints = skills->scene().chain("left_arm").joints;
+  std::vector<int> actuators;
+  for (int j : joints) {
+    for (int a = 0; a < m->nu; ++a)
+      if (m->actuator_trnid[2 * a] == j) actuators.push_back(a);
+  }
+  const std::vector<double> rest = skills->configuration({"left_arm"});
+  const int substeps = static_cast<int>(std::lround(skills->control_period() / m->opt.timestep));
+  for (auto _ : state) {
+    const std::vector<double> q = arm_target(rest, d->time);
+    for (size_t i = 0; i < actuators.size(); ++i) d->ctrl[actuators[i]] = q[i];
+    for (int s = 0; s < substeps; ++s) mj_step(m, d.get());
+  }
+}
+BENCHMARK(BM_ControlPeriod_Raw)->Unit(benchmark::kMicrosecond);
+
+void BM_ControlPeriod_Skillset(benchmark::State& state) {
+  auto skills = make_skillset();
+  const std::vector<double> rest = skills->configuration({"left_arm"});
+  for (auto _ : state) {
+    skills->command({"left_arm"}, arm_target(rest, skills->time()));
+    benchmark::DoNotOptimize(skills->advance());
+  }
+}
+BENCHMARK(BM_ControlPeriod_Skillset)->Unit(benchmark::kMicrosecond);
+
+void BM_Clearance_RawWideMargin(benchmark::State& state) {
+  auto skills = make_skillset();
+  mujoco::ModelPtr wide = mujoco::copy_model(skills->model());
+  for (int g = 0; g < wide->ngeom; ++g) wide->geom_margin[g] = 0.3;
+  wide->nconmax = 20000;
+  mujoco::DataPtr d = mujoco::make_data(wide.get());
+  mju_copy(d->qpos, skills->sim_data()->qpos, wide->nq);
+  const mujoco::Scene& scene = skills->scene();
+  for (auto _ : state) {
+    mj_kinematics(wide.get(), d.get());
+    mj_collision(wide.get(), d.get());
+    double dist = 0.3;
+    for (int c = 0; c < d->ncon; ++c) {
+      if (scene.is_robot_geom(d->contact[c].geom1) || scene.is_robot_geom(d->contact[c].geom2))
+        dist = std::min(dist, d->contact[c].dist);
+    }
+    benchmark::DoNotOptimize(dist);
+  }
+}
+BENCHMARK(BM_Clearance_RawWideMargin)->Unit(benchmark::kMicrosecond);
+
+void BM_Clearance_Skillset(benchmark::State& state) {
+  auto skills = make_skillset();
+  const std::vector<std::string> arms = {"left_arm", "right_arm"};
+  const std::vector<double> q = skills->configuration(arms);
+  for (auto _ : state) benchmark::DoNotOptimize(skills->clearance(arms, q, 0.3));
+}
+BENCHMARK(BM_Clearance_Skillset)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
