@@ -168,6 +168,13 @@ class Skillset {
   // Returns the object to physics where it is. Throws for an object not attached.
   virtual void detach(const std::string& object) = 0;
   virtual std::vector<std::string> attached_objects() const = 0;
+  // The side ("left"/"right") of the hand holding `object`, or "" if it is not held.
+  virtual std::string holder_of(const std::string& object) const = 0;
+
+  // ---- Contact sensing (the simulated state now).
+  // What touches `part`, a robot body or an object's symbolic name: object names for task
+  // objects, body names otherwise. Throws std::invalid_argument for an unknown name.
+  virtual std::vector<std::string> touching(const std::string& part) const = 0;
 };
 
 }  // namespace taskmatrix::core

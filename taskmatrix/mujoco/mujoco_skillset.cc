@@ -68,6 +68,7 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
 
 void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
   worker_.apply_layout(layout);
+  obstacle_count_ = static_cast<int>(layout.obstacles.size());
   mj_forward(worker_.model(), worker_.data());
 }
 
@@ -75,6 +76,7 @@ void MujocoSkillset::reset() {
   worker_.reset_to_start();
   attachments_.clear();
   attachment_names_.clear();
+  attachment_sides_.clear();
   mjData* d = worker_.data();
   for (const JointState& js : joint_state_) {
     if (js.joint < 0) continue;
@@ -535,6 +537,7 @@ void MujocoSkillset::attach(const std::string& object, const std::string& side) 
               d->xquat + 4 * body);
   attachments_.push_back(std::move(a));
   attachment_names_.push_back(object);
+  attachment_sides_.push_back(side);
   place_attachments(m, d, attachments_);
   mj_forward(m, d);
 }
@@ -546,10 +549,52 @@ void MujocoSkillset::detach(const std::string& object) {
   }
   const size_t k = static_cast<size_t>(it - attachment_names_.begin());
   attachments_.erase(attachments_.begin() + static_cast<long>(k));
+  attachment_sides_.erase(attachment_sides_.begin() + static_cast<long>(k));
   attachment_names_.erase(it);
   mj_forward(worker_.model(), worker_.data());
 }
 
 std::vector<std::string> MujocoSkillset::attached_objects() const { return attachment_names_; }
+
+std::string MujocoSkillset::holder_of(const std::string& object) const {
+  for (size_t k = 0; k < attachment_names_.size(); ++k) {
+    if (attachment_names_[k] == object) return attachment_sides_[k];
+  }
+  return "";
+}
+
+std::string MujocoSkillset::name_of_body(int body) const {
+  const mjModel* m = worker_.model();
+  for (const auto& [name, spec] : scene_->environment().objects) {
+    for (const std::string& b : spec.bodies) {
+      const int id = mj_name2id(m, mjOBJ_BODY, b.c_str());
+      if (id >= 0 && (id == body || m->body_rootid[body] == id)) {
+        return spec.bodies.size() == 1 ? name : b;
+      }
+    }
+  }
+  return body_name(m, body);
+}
+
+std::vector<std::string> MujocoSkillset::touching(const std::string& part) const {
+  const mjModel* m = worker_.model();
+  const mjData* d = worker_.data();
+  int body = object_body(part);
+  if (body < 0) body = mj_name2id(m, mjOBJ_BODY, part.c_str());
+  if (body <= 0) throw std::invalid_argument("no body or object '" + part + "'");
+  const bool whole_object = object_body(part) >= 0;
+  auto is_part = [&](int b) { return whole_object ? m->body_rootid[b] == body : b == body; };
+  std::vector<std::string> out;
+  for (int i = 0; i < d->ncon; ++i) {
+    const int b1 = m->geom_bodyid[d->contact[i].geom1], b2 = m->geom_bodyid[d->contact[i].geom2];
+    int other = -1;
+    if (is_part(b1) && !is_part(b2)) other = b2;
+    if (is_part(b2) && !is_part(b1)) other = b1;
+    if (other < 0) continue;
+    std::string name = name_of_body(other);
+    if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(std::move(name));
+  }
+  return out;
+}
 
 }  // namespace taskmatrix::mujoco

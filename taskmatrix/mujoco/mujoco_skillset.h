@@ -34,6 +34,8 @@ class MujocoSkillset final : public core::Skillset {
   // environment's start in the rest posture, targets there, time 0, nothing attached).
   void apply_layout(const core::ObstacleLayout& layout);
   void reset();
+  // Whether obstacle slot `slot` holds an obstacle of the applied layout.
+  bool obstacle_active(int slot) const { return slot >= 0 && slot < obstacle_count_; }
   // Places the chains at `values` at once (and makes that the held target): set-up of a
   // trial's initial state, not motion. Throws std::invalid_argument like command().
   void set_configuration(const std::vector<std::string>& chain_names,
@@ -78,6 +80,8 @@ class MujocoSkillset final : public core::Skillset {
   void attach(const std::string& object, const std::string& side) override;
   void detach(const std::string& object) override;
   std::vector<std::string> attached_objects() const override;
+  std::string holder_of(const std::string& object) const override;
+  std::vector<std::string> touching(const std::string& part) const override;
 
  private:
   struct JointState {
@@ -91,6 +95,8 @@ class MujocoSkillset final : public core::Skillset {
   bool within_limits(const std::vector<int>& joints, const std::vector<double>& values) const;
   void sync_query();
   int object_body(const std::string& object) const;  // -1 if not an object's body
+  // The symbolic object name of a body's object, or the body's name.
+  std::string name_of_body(int body) const;
   // Robot bodies the chains' joints move, as a per-body mask.
   std::vector<char> moved_bodies(const std::vector<int>& joints) const;
 
@@ -103,6 +109,8 @@ class MujocoSkillset final : public core::Skillset {
   std::vector<double> acc_full_, mass_times_acc_;             // nv scratch
   std::vector<Attachment> attachments_;
   std::vector<std::string> attachment_names_;
+  std::vector<std::string> attachment_sides_;
+  int obstacle_count_ = 0;
   double period_ = 0.01;
   int substeps_ = 5;
   double period_start_ = 0;

@@ -1,0 +1,73 @@
+// Conditions (paper section III-C): Boolean predicates over the robot (through the skillset)
+// and the perceptual model, composable with all_of / any_of / negate. They are used as
+// program preconditions and, for object placement, as generators of states that satisfy
+// them (putdown draws placements from above(object, surface) and near(object, surface)).
+//
+// Definitions:
+//   near(A, B, d)         the bounding boxes of A and B are at most d apart (default 0.10 m)
+//   above(A, B)           the ground projections of the boxes intersect and A's bottom is no
+//                         lower than B's top minus 2 cm
+//   postural(C, P, tol)   every joint of chains C (default: the chains P names) is within tol
+//                         (default 0.05 rad or m) of posture P
+//   grasping(A)           A is held by a hand (attached through the skillset)
+//   graspable(A, side)    A is known, not held, and the palm of `side` ("left", "right" or
+//                         "any") is within 3 cm of A's grasp point (its box centre)
+// An object the perceptual model does not know makes near/above/graspable false.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "taskmatrix/core/perceptual_model.h"
+#include "taskmatrix/core/skillset.h"
+
+namespace taskmatrix::core {
+
+struct World {
+  Skillset& skills;
+  const PerceptualModel& percepts;
+};
+
+// "What if object `id` had this box": for testing candidate placements.
+struct Hypothesis {
+  std::string id;
+  Eigen::AlignedBox3d box;
+};
+
+class Condition {
+ public:
+  virtual ~Condition() = default;
+  virtual bool holds(const World& world, const Hypothesis* hypothesis = nullptr) const = 0;
+  virtual std::string describe() const = 0;
+  // A box for `object` that satisfies this condition, drawn with `rng`, if this condition
+  // can propose one; conjunctions draw from their generating members and keep draws for
+  // which every member holds.
+  virtual std::optional<Eigen::AlignedBox3d> propose(const World& world, const std::string& object,
+                                                     std::mt19937_64& rng) const;
+};
+using ConditionPtr = std::shared_ptr<const Condition>;
+
+ConditionPtr near(std::string a, std::string b, double distance_m = 0.10);
+ConditionPtr above(std::string a, std::string b);
+ConditionPtr postural(std::string posture, std::vector<std::string> chains = {},
+                      double tolerance = 0.05);
+ConditionPtr grasping(std::string object);
+ConditionPtr graspable(std::string object, std::string side = "any");
+ConditionPtr all_of(std::vector<ConditionPtr> conditions);
+ConditionPtr any_of(std::vector<ConditionPtr> conditions);
+ConditionPtr negate(ConditionPtr condition);
+
+// Up to `count` boxes for `object` satisfying `condition`, from at most `max_draws` draws.
+std::vector<Eigen::AlignedBox3d> sample_placements(const Condition& condition, const World& world,
+                                                   const std::string& object, std::mt19937_64& rng,
+                                                   int count, int max_draws = 500);
+
+// The distance between two boxes (0 if they overlap).
+double box_distance(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b);
+// Which hand holds `object`: "left", "right", or "" if none. Uses the skillset's attachments.
+std::string holding_side(Skillset& skills, const std::string& object);
+
+}  // namespace taskmatrix::core

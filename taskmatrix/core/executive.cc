@@ -1,0 +1,214 @@
+#include "taskmatrix/core/executive.h"
+
+#include <stdexcept>
+
+namespace taskmatrix::core {
+
+struct Executive::Instance {
+  int id = -1;
+  int parent = -1;
+  std::string name;
+  std::unique_ptr<TaskProgram> program;
+  std::unique_ptr<Context> context;
+  std::vector<std::string> chains;
+  std::vector<int> children;
+  std::vector<Message> inbox;
+  bool running = false;
+  bool started = false;
+  std::optional<Message> outcome;
+};
+
+class Executive::Context final : public ProgramContext {
+ public:
+  Context(Executive& e, int id) : e_(e), id_(id) {}
+  Skillset& skills() override { return e_.skills_; }
+  const PerceptualModel& percepts() const override { return e_.percepts_; }
+  double time() const override { return e_.skills_.time(); }
+  int self() const override { return id_; }
+  void emit(MessageType type, const std::string& reason) override { e_.emit(id_, type, reason); }
+  const PlanOptions& plan_options() const override { return e_.options_.plan; }
+  std::uint32_t next_seed() override {
+    // splitmix64 of the run seed and a counter: distinct, reproducible, never 0.
+    std::uint64_t z = (static_cast<std::uint64_t>(e_.options_.seed) << 32) + ++e_.seed_counter_;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return static_cast<std::uint32_t>(z % 0xfffffffeULL) + 1;
+  }
+  int start_child(const std::string& program, const RawParams& params) override {
+    std::unique_ptr<TaskProgram> p = e_.registry_.instantiate(program, params);
+    return e_.launch(std::move(p), program, id_);
+  }
+  void halt_child(int id) override { e_.halt(id); }
+  std::vector<Message> take_inbox() override {
+    std::vector<Message> out;
+    out.swap(e_.instances_.at(id_)->inbox);
+    return out;
+  }
+
+ private:
+  Executive& e_;
+  int id_;
+};
+
+Executive::Executive(Skillset& skills, const ProgramRegistry& registry, Perception* perception,
+                     ExecutiveOptions options)
+    : skills_(skills), registry_(registry), perception_(perception), options_(std::move(options)) {
+  if (options_.seed == 0) throw std::invalid_argument("executive seed must be positive");
+  if (!(options_.perception_rate_hz > 0)) {
+    throw std::invalid_argument("perception rate must be positive");
+  }
+  perceive();
+}
+
+Executive::~Executive() = default;
+
+void Executive::perceive() {
+  if (perception_) perception_->update(skills_.time(), percepts_);
+  next_perception_ = skills_.time() + 1.0 / options_.perception_rate_hz;
+}
+
+int Executive::start(const std::string& program, const RawParams& params) {
+  return launch(registry_.instantiate(program, params), program, -1);
+}
+
+int Executive::start(std::unique_ptr<TaskProgram> program, const std::string& name) {
+  return launch(std::move(program), name, -1);
+}
+
+void Executive::emit(int id, MessageType type, const std::string& reason) {
+  Instance& inst = *instances_.at(id);
+  Message m{skills_.time(), id, inst.name, type, reason};
+  log_.push_back(m);
+  if (inst.parent >= 0) {
+    const auto parent = instances_.find(inst.parent);
+    if (parent != instances_.end() && parent->second->running) parent->second->inbox.push_back(m);
+  }
+}
+
+int Executive::launch(std::unique_ptr<TaskProgram> program, const std::string& name, int parent) {
+  const int id = next_id_++;
+  auto inst = std::make_unique<Instance>();
+  inst->id = id;
+  inst->parent = parent;
+  inst->name = name;
+  inst->program = std::move(program);
+  inst->context = std::make_unique<Context>(*this, id);
+  Instance& self = *inst;
+  instances_.emplace(id, std::move(inst));
+  if (parent >= 0) instances_.at(parent)->children.push_back(id);
+  self.running = true;
+
+  std::vector<std::string> chains;
+  try {
+    chains = self.program->chains(skills_);
+  } catch (const std::invalid_argument& e) {
+    finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
+    return id;
+  }
+  for (const std::string& c : chains) {
+    const auto held = chain_holder_.find(c);
+    if (held != chain_holder_.end()) {
+      const Instance& other = *instances_.at(held->second);
+      finish(id, MessageType::kFailed,
+             "chains_busy: " + c + " held by " + other.name + "#" + std::to_string(other.id));
+      return id;
+    }
+  }
+  for (const std::string& c : chains) chain_holder_[c] = id;
+  self.chains = chains;
+  emit(id, MessageType::kStarted, "");
+  if (ConditionPtr pre = self.program->precondition();
+      pre && !pre->holds(World{skills_, percepts_})) {
+    finish(id, MessageType::kFailed, "precondition_false: " + pre->describe());
+    return id;
+  }
+  try {
+    self.program->start(*self.context);
+    self.started = true;
+  } catch (const std::invalid_argument& e) {
+    finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
+  }
+  return id;
+}
+
+void Executive::finish(int id, MessageType type, const std::string& reason) {
+  Instance& inst = *instances_.at(id);
+  if (!inst.running) return;
+  for (int child : inst.children) halt(child);
+  for (const std::string& c : inst.chains) {
+    const auto it = chain_holder_.find(c);
+    if (it != chain_holder_.end() && it->second == id) chain_holder_.erase(it);
+  }
+  emit(id, type, reason);
+  inst.running = false;
+  inst.outcome = log_.back();
+}
+
+void Executive::halt(int id) {
+  const auto it = instances_.find(id);
+  if (it == instances_.end() || !it->second->running) return;
+  Instance& inst = *it->second;
+  for (int child : inst.children) halt(child);
+  if (inst.started) inst.program->halt(*inst.context);
+  finish(id, MessageType::kHalted, "");
+}
+
+void Executive::tick() {
+  if (skills_.time() >= next_perception_ - 1e-12) perceive();
+  std::vector<int> ids;
+  for (const auto& [id, inst] : instances_) {
+    if (inst->running) ids.push_back(id);
+  }
+  for (int id : ids) {
+    Instance& inst = *instances_.at(id);
+    if (!inst.running) continue;  // ended by an earlier program's step this tick
+    ProgramState state;
+    try {
+      state = inst.program->step(*inst.context);
+    } catch (const std::invalid_argument& e) {
+      finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
+      continue;
+    }
+    if (state == ProgramState::kCompleted) finish(id, MessageType::kCompleted, "");
+    if (state == ProgramState::kFailed) finish(id, MessageType::kFailed, inst.program->failure());
+  }
+  const StepReport step = skills_.advance();
+  if (step.unstable) {
+    for (int id : ids) {
+      if (instances_.at(id)->running && instances_.at(id)->parent < 0)
+        finish(id, MessageType::kFailed, "sim_unstable: " + step.message);
+    }
+  }
+}
+
+bool Executive::run(double max_time_s) {
+  const double until = skills_.time() + max_time_s;
+  while (any_running() && skills_.time() < until - 1e-12) tick();
+  return !any_running();
+}
+
+bool Executive::running(int id) const {
+  const auto it = instances_.find(id);
+  return it != instances_.end() && it->second->running;
+}
+
+bool Executive::any_running() const {
+  for (const auto& [id, inst] : instances_) {
+    if (inst->running) return true;
+  }
+  return false;
+}
+
+const Message* Executive::outcome(int id) const {
+  const auto it = instances_.find(id);
+  if (it == instances_.end() || !it->second->outcome) return nullptr;
+  return &*it->second->outcome;
+}
+
+int Executive::holder_of_chain(const std::string& chain) const {
+  const auto it = chain_holder_.find(chain);
+  return it == chain_holder_.end() ? -1 : it->second;
+}
+
+}  // namespace taskmatrix::core

@@ -1,0 +1,51 @@
+// The perceptual model (paper section III-B): what the robot believes about the objects
+// around it. A perception process outside the programs (ground truth, or the simulated head
+// sensor) writes it at its own rate; programs and conditions only read it.
+#pragma once
+
+#include <limits>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "taskmatrix/core/planning_types.h"
+
+namespace taskmatrix::core {
+
+struct PerceivedObject {
+  std::string id;    // symbolic name: "cup", "debris_2", "work_surface", "obstacle_4", "visitor"
+  std::string type;  // "graspable", "tool", "surface", "debris", "obstacle", "humanoid"
+  Pose pose;         // of the object's frame
+  Eigen::AlignedBox3d box;                                      // world-aligned bounding box
+  double last_seen = -std::numeric_limits<double>::infinity();  // simulated seconds
+  double confidence = 0;  // in [0, 1]: 1 for ground truth; the sensor's share of rays that hit it
+};
+
+class PerceptualModel {
+ public:
+  // Inserts or replaces the object with the same id.
+  void observe(PerceivedObject object);
+  void forget(std::string_view id);
+  void clear() { objects_.clear(); }
+
+  const PerceivedObject* find(std::string_view id) const;
+  std::vector<const PerceivedObject*> of_type(std::string_view type) const;
+  const std::map<std::string, PerceivedObject, std::less<>>& objects() const { return objects_; }
+  bool knows(std::string_view id) const { return find(id) != nullptr; }
+
+ private:
+  std::map<std::string, PerceivedObject, std::less<>> objects_;
+};
+
+// A perception process: called by the executive at its own rate, it updates the model.
+class Perception {
+ public:
+  virtual ~Perception() = default;
+  virtual const char* mode() const = 0;  // "ground_truth" or "sensor"
+  virtual void update(double time, PerceptualModel& model) = 0;
+};
+
+}  // namespace taskmatrix::core

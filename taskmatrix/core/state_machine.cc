@@ -1,0 +1,258 @@
+#include "taskmatrix/core/state_machine.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <set>
+#include <stdexcept>
+
+namespace taskmatrix::core {
+
+namespace {
+
+const MachineState* find_state(const MachineSpec& spec, const std::string& name) {
+  for (const MachineState& s : spec.states) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+const ConcurrentProgram* find_concurrent(const MachineSpec& spec, const std::string& name) {
+  for (const ConcurrentProgram& c : spec.concurrent) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+std::string param_text(const ParamValue& v) {
+  if (const auto* s = std::get_if<std::string>(&v)) return *s;
+  if (const auto* d = std::get_if<double>(&v)) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", *d);
+    return buf;
+  }
+  if (const auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
+  if (const auto* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  std::string out = "[";
+  for (const std::string& item : std::get<std::vector<std::string>>(v))
+    out += (out.size() > 1 ? ", " : "") + item;
+  return out + "]";
+}
+
+// Replaces "$name" values with the machine's parameter values.
+RawParams substitute(const RawParams& raw, const Params& machine_params) {
+  RawParams out;
+  for (const auto& [key, value] : raw) {
+    if (!value.empty() && value.front() == '$') {
+      out[key] = param_text(machine_params.values().at(value.substr(1)));
+    } else {
+      out[key] = value;
+    }
+  }
+  return out;
+}
+
+// Checks a program's parameters as far as they are known before the machine's own are:
+// names, literal values, and "$x" references with compatible types.
+void check_program_params(const MachineSpec& spec, const ProgramRegistry& registry,
+                          const std::string& program, const RawParams& params,
+                          const std::string& where) {
+  const ProgramType* type = registry.find(program);
+  if (!type) throw std::invalid_argument(where + ": unknown program '" + program + "'");
+  RawParams literal;
+  for (const auto& [key, value] : params) {
+    const auto ps = std::find_if(type->params.begin(), type->params.end(),
+                                 [&](const ParamSpec& p) { return p.name == key; });
+    if (ps == type->params.end()) {
+      throw std::invalid_argument(where + ": program '" + program + "' has no parameter '" + key +
+                                  "'");
+    }
+    if (!value.empty() && value.front() == '$') {
+      const std::string ref = value.substr(1);
+      const auto mp = std::find_if(spec.params.begin(), spec.params.end(),
+                                   [&](const ParamSpec& p) { return p.name == ref; });
+      if (mp == spec.params.end()) {
+        throw std::invalid_argument(where + ": parameter '" + key + "' refers to $" + ref +
+                                    ", which machine '" + spec.name + "' does not declare");
+      }
+      if (mp->type != ps->type) {
+        throw std::invalid_argument(where + ": parameter '" + key + "' is a " +
+                                    to_string(ps->type) + " but $" + ref + " is a " +
+                                    to_string(mp->type));
+      }
+      continue;
+    }
+    literal[key] = value;
+  }
+  // Literal values and required names, with references standing in as given.
+  for (const ParamSpec& p : type->params) {
+    if (literal.count(p.name)) {
+      try {
+        parse_param(p, literal.at(p.name));
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(where + ": parameter '" + p.name + "': " + e.what());
+      }
+    } else if (p.required && !params.count(p.name)) {
+      throw std::invalid_argument(where + ": program '" + program + "' needs parameter '" + p.name +
+                                  "' (" + to_string(p.type) + ")");
+    }
+  }
+}
+
+class StateMachineProgram final : public TaskProgram {
+ public:
+  StateMachineProgram(MachineSpec spec, Params params)
+      : spec_(std::move(spec)), params_(std::move(params)) {}
+
+  std::vector<std::string> chains(const Skillset&) const override { return {}; }
+
+  void start(ProgramContext& ctx) override {
+    for (const ConcurrentProgram& c : spec_.concurrent) {
+      if (c.at_start) start_concurrent(ctx, c);
+    }
+    enter(ctx, spec_.initial);
+  }
+
+  ProgramState step(ProgramContext& ctx) override {
+    for (const Message& m : ctx.take_inbox()) {
+      if (done_) break;
+      std::string source;
+      if (m.sender == current_child_) source = current_;
+      for (const auto& [name, id] : concurrent_ids_) {
+        if (id == m.sender) source = name;
+      }
+      if (source.empty()) continue;  // an old child's late message
+      const MachineTransition* t = nullptr;
+      for (const MachineTransition& tr : spec_.transitions) {
+        if (tr.from == source && tr.on == m.type) {
+          t = &tr;
+          break;
+        }
+      }
+      const bool terminal = m.type == MessageType::kCompleted || m.type == MessageType::kFailed ||
+                            m.type == MessageType::kHalted;
+      if (!t) {
+        if (source == current_ && terminal) {
+          // No transition for a failure: the machine fails with the state's reason.
+          current_child_ = -1;
+          return fail(m.type == MessageType::kFailed ? m.reason
+                                                     : current_ + " " + to_string(m.type));
+        }
+        continue;
+      }
+      if (source == current_ && terminal) current_child_ = -1;
+      last_reason_ = m.reason;
+      for (const std::string& name : t->stop) {
+        const auto it = concurrent_ids_.find(name);
+        if (it != concurrent_ids_.end()) ctx.halt_child(it->second);
+        concurrent_ids_.erase(name);
+      }
+      for (const std::string& name : t->start) start_concurrent(ctx, *find_concurrent(spec_, name));
+      if (!t->to.empty()) enter(ctx, t->to);
+    }
+    if (!done_) return ProgramState::kRunning;
+    for (const auto& [name, id] : concurrent_ids_) ctx.halt_child(id);
+    concurrent_ids_.clear();
+    if (success_) return ProgramState::kCompleted;
+    return fail(last_reason_.empty() ? "final state " + current_ : last_reason_);
+  }
+
+ private:
+  void start_concurrent(ProgramContext& ctx, const ConcurrentProgram& c) {
+    const auto running = concurrent_ids_.find(c.name);
+    if (running != concurrent_ids_.end()) ctx.halt_child(running->second);
+    concurrent_ids_[c.name] = ctx.start_child(c.program, substitute(c.params, params_));
+  }
+
+  void enter(ProgramContext& ctx, const std::string& state) {
+    if (current_child_ >= 0) ctx.halt_child(current_child_);
+    current_child_ = -1;
+    current_ = state;
+    const MachineState& s = *find_state(spec_, state);
+    if (s.final) {
+      done_ = true;
+      success_ = s.success;
+      return;
+    }
+    // A refused child has already sent its failure to the inbox; step() handles it.
+    current_child_ = ctx.start_child(s.program, substitute(s.params, params_));
+  }
+
+  MachineSpec spec_;
+  Params params_;
+  std::string current_;
+  int current_child_ = -1;
+  std::map<std::string, int> concurrent_ids_;
+  bool done_ = false, success_ = false;
+  std::string last_reason_;
+};
+
+}  // namespace
+
+void check_machine(const MachineSpec& spec, const ProgramRegistry& registry) {
+  const std::string m = "machine '" + spec.name + "'";
+  if (spec.name.empty()) throw std::invalid_argument("a machine needs a name");
+  if (spec.states.empty()) throw std::invalid_argument(m + ": has no states");
+  std::set<std::string> names;
+  bool any_final = false;
+  for (const MachineState& s : spec.states) {
+    if (!names.insert(s.name).second)
+      throw std::invalid_argument(m + ": state '" + s.name + "' is declared twice");
+    if (s.final) {
+      any_final = true;
+      continue;
+    }
+    if (s.program == spec.name) {
+      throw std::invalid_argument(m + ": state '" + s.name + "' runs the machine itself");
+    }
+    check_program_params(spec, registry, s.program, s.params, m + ", state '" + s.name + "'");
+  }
+  for (const ConcurrentProgram& c : spec.concurrent) {
+    if (names.count(c.name))
+      throw std::invalid_argument(m + ": concurrent program '" + c.name + "' has a state's name");
+    check_program_params(spec, registry, c.program, c.params,
+                         m + ", concurrent program '" + c.name + "'");
+  }
+  if (!any_final) throw std::invalid_argument(m + ": has no final state");
+  if (!find_state(spec, spec.initial))
+    throw std::invalid_argument(m + ": initial state '" + spec.initial + "' is not a state");
+  for (size_t k = 0; k < spec.transitions.size(); ++k) {
+    const MachineTransition& t = spec.transitions[k];
+    const std::string where = m + ", transition " + std::to_string(k) + " (from " + t.from + ")";
+    const MachineState* from = find_state(spec, t.from);
+    if (!from && !find_concurrent(spec, t.from))
+      throw std::invalid_argument(where + ": '" + t.from +
+                                  "' is neither a state nor a concurrent program");
+    if (from && from->final) throw std::invalid_argument(where + ": leaves a final state");
+    if (!t.to.empty() && !find_state(spec, t.to))
+      throw std::invalid_argument(where + ": target '" + t.to + "' is not a state");
+    for (const std::string& c : t.start)
+      if (!find_concurrent(spec, c))
+        throw std::invalid_argument(where + ": starts unknown concurrent program '" + c + "'");
+    for (const std::string& c : t.stop)
+      if (!find_concurrent(spec, c))
+        throw std::invalid_argument(where + ": stops unknown concurrent program '" + c + "'");
+  }
+  for (const MachineState& s : spec.states) {
+    if (s.final) continue;
+    const bool handled = std::any_of(spec.transitions.begin(), spec.transitions.end(),
+                                     [&](const MachineTransition& t) {
+                                       return t.from == s.name && t.on == MessageType::kCompleted;
+                                     });
+    if (!handled)
+      throw std::invalid_argument(m + ": state '" + s.name + "' has no transition on completed");
+  }
+}
+
+void register_machine(const MachineSpec& spec, ProgramRegistry& registry) {
+  check_machine(spec, registry);
+  ProgramType type;
+  type.name = spec.name;
+  type.doc = spec.doc;
+  type.params = spec.params;
+  type.make = [spec](const Params& params) {
+    return std::make_unique<StateMachineProgram>(spec, params);
+  };
+  registry.add(std::move(type));
+}
+
+}  // namespace taskmatrix::core

@@ -1,0 +1,146 @@
+// Task programs (paper section III-D): functions of time and state, with typed parameters
+// checked before anything runs, the chains they use, a precondition, and a start / step /
+// halt lifecycle driven by the executive at the control rate. They talk to the world only
+// through ProgramContext (the skillset, the perceptual model, messages, child programs).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "taskmatrix/core/conditions.h"
+#include "taskmatrix/core/perceptual_model.h"
+#include "taskmatrix/core/skillset.h"
+
+namespace taskmatrix::core {
+
+// ---- Parameters.
+enum class ParamType { kString, kNumber, kInteger, kBool, kStringList };
+const char* to_string(ParamType type);
+using ParamValue = std::variant<std::string, double, std::int64_t, bool, std::vector<std::string>>;
+
+struct ParamSpec {
+  std::string name;
+  ParamType type = ParamType::kString;
+  bool required = true;
+  ParamValue default_value;          // used when not required and not given
+  std::vector<std::string> choices;  // for strings: allowed values (empty: any)
+  std::string doc;
+};
+
+// Raw parameter text as written in a scenario or machine file, by name.
+using RawParams = std::map<std::string, std::string>;
+
+// Checked, typed parameters of one program instance.
+class Params {
+ public:
+  Params() = default;
+  explicit Params(std::map<std::string, ParamValue> values) : values_(std::move(values)) {}
+  const std::string& text(const std::string& name) const;
+  double number(const std::string& name) const;
+  std::int64_t integer(const std::string& name) const;
+  bool flag(const std::string& name) const;
+  const std::vector<std::string>& list(const std::string& name) const;
+  const std::map<std::string, ParamValue>& values() const { return values_; }
+
+ private:
+  const ParamValue& at(const std::string& name) const;
+  std::map<std::string, ParamValue> values_;
+};
+
+// Parses one value; throws std::invalid_argument with a message naming the expected type.
+ParamValue parse_param(const ParamSpec& spec, const std::string& text);
+// Checks `raw` against `specs`: unknown names, missing required ones, wrong types and
+// choices. Throws std::invalid_argument("parameter 'x': ...").
+Params check_params(const std::vector<ParamSpec>& specs, const RawParams& raw);
+
+// ---- Messages.
+enum class MessageType { kStarted, kPlanningStarted, kPlanningEnded, kCompleted, kFailed, kHalted };
+const char* to_string(MessageType type);
+// Throws std::invalid_argument for an unknown name ("completed", "failed", ...).
+MessageType message_type_from_string(const std::string& name);
+
+struct Message {
+  double time = 0;
+  int sender = -1;      // program instance id
+  std::string program;  // its program type, e.g. "reach"
+  MessageType type = MessageType::kStarted;
+  std::string reason;  // for failures: "ik_failure: ...", "collision: ...", ...
+};
+
+enum class ProgramState { kRunning, kCompleted, kFailed };
+
+class TaskProgram;
+
+// What a running program may use.
+class ProgramContext {
+ public:
+  virtual ~ProgramContext() = default;
+  virtual Skillset& skills() = 0;
+  virtual const PerceptualModel& percepts() const = 0;
+  World world() { return World{skills(), percepts()}; }
+  virtual double time() const = 0;
+  virtual int self() const = 0;  // this program's instance id
+  virtual void emit(MessageType type, const std::string& reason = "") = 0;
+  // Planner settings and a seed source for this run.
+  virtual const PlanOptions& plan_options() const = 0;
+  virtual std::uint32_t next_seed() = 0;
+  // Child programs (state machines): started with this program as parent; their messages
+  // arrive in this program's inbox. start_child returns the child's id; a refused child
+  // (chains busy, precondition false) has already sent its kFailed message.
+  virtual int start_child(const std::string& program, const RawParams& params) = 0;
+  virtual void halt_child(int id) = 0;
+  virtual std::vector<Message> take_inbox() = 0;
+};
+
+class TaskProgram {
+ public:
+  virtual ~TaskProgram() = default;
+  // Chains this program commands; the executive holds them for it while it runs.
+  virtual std::vector<std::string> chains(const Skillset& skills) const = 0;
+  // May be null. Checked when the program starts; false fails it with "precondition_false".
+  virtual ConditionPtr precondition() const { return nullptr; }
+  virtual void start(ProgramContext& ctx) = 0;
+  virtual ProgramState step(ProgramContext& ctx) = 0;
+  // Forced termination: stop commanding motion (hold where the chains are).
+  virtual void halt(ProgramContext& ctx);
+  // Why step() returned kFailed: "<status>: <details>".
+  const std::string& failure() const { return failure_; }
+
+ protected:
+  ProgramState fail(std::string reason) {
+    failure_ = std::move(reason);
+    return ProgramState::kFailed;
+  }
+
+ private:
+  std::string failure_;
+};
+
+// ---- The program registry: names to parameter specs and factories.
+struct ProgramType {
+  std::string name;
+  std::string doc;
+  std::vector<ParamSpec> params;
+  std::function<std::unique_ptr<TaskProgram>(const Params&)> make;
+};
+
+class ProgramRegistry {
+ public:
+  // Throws std::invalid_argument if the name is taken.
+  void add(ProgramType type);
+  const ProgramType* find(const std::string& name) const;
+  std::vector<std::string> names() const;
+  // check_params + make; throws std::invalid_argument naming the program and parameter.
+  std::unique_ptr<TaskProgram> instantiate(const std::string& name, const RawParams& raw) const;
+
+ private:
+  std::map<std::string, ProgramType> types_;
+};
+
+}  // namespace taskmatrix::core

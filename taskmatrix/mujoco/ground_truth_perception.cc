@@ -1,0 +1,113 @@
+#include "taskmatrix/mujoco/ground_truth_perception.h"
+
+#include <cmath>
+
+#include "taskmatrix/mujoco/kinematics.h"
+
+namespace taskmatrix::mujoco {
+
+namespace {
+
+const char* type_name(core::ObjectKind kind) {
+  switch (kind) {
+    case core::ObjectKind::kGraspable:
+      return "graspable";
+    case core::ObjectKind::kTool:
+      return "tool";
+    case core::ObjectKind::kSurface:
+      return "surface";
+    case core::ObjectKind::kDebris:
+      return "debris";
+  }
+  return "object";
+}
+
+void add_geom(const mjModel* m, const mjData* d, int g, Eigen::AlignedBox3d& box) {
+  const double* p = d->geom_xpos + 3 * g;
+  const double* r = d->geom_xmat + 9 * g;  // row-major: r[3 * i + j] = R(i, j)
+  const double* s = m->geom_size + 3 * g;
+  Eigen::Vector3d half;
+  for (int i = 0; i < 3; ++i) {
+    const double rx = std::abs(r[3 * i]), ry = std::abs(r[3 * i + 1]), rz = std::abs(r[3 * i + 2]);
+    switch (m->geom_type[g]) {
+      case mjGEOM_BOX:
+        half[i] = rx * s[0] + ry * s[1] + rz * s[2];
+        break;
+      case mjGEOM_SPHERE:
+        half[i] = s[0];
+        break;
+      case mjGEOM_CAPSULE:
+        half[i] = s[0] + rz * s[1];
+        break;
+      case mjGEOM_CYLINDER:
+        half[i] = s[0] * std::sqrt(std::max(0.0, 1 - rz * rz)) + rz * s[1];
+        break;
+      case mjGEOM_ELLIPSOID:
+        half[i] = rx * s[0] + ry * s[1] + rz * s[2];
+        break;
+      default:
+        half[i] = m->geom_rbound[g];
+        break;
+    }
+  }
+  const Eigen::Vector3d c(p[0], p[1], p[2]);
+  box.extend(c - half);
+  box.extend(c + half);
+}
+
+core::Pose body_pose(const mjData* d, int body) {
+  return frame_pose(d, FrameRef{FrameRef::Kind::kBody, body});
+}
+
+}  // namespace
+
+Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool subtree) {
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int b = m->geom_bodyid[g];
+    if (m->geom_type[g] == mjGEOM_PLANE || m->geom_rgba[4 * g + 3] == 0) continue;
+    bool mine = b == body;
+    for (int up = b; subtree && !mine && up > 0; up = m->body_parentid[up]) mine = up == body;
+    if (mine) add_geom(m, d, g, box);
+  }
+  return box;
+}
+
+std::vector<core::PerceivedObject> scene_objects(const MujocoSkillset& skills, double time) {
+  const mjModel* m = skills.model();
+  const mjData* d = skills.sim_data();
+  const Scene& scene = skills.scene();
+  std::vector<core::PerceivedObject> out;
+  auto add = [&](std::string id, std::string type, int body) {
+    core::PerceivedObject o;
+    o.id = std::move(id);
+    o.type = std::move(type);
+    o.pose = body_pose(d, body);
+    o.box = body_box(m, d, body, true);
+    o.last_seen = time;
+    o.confidence = 1.0;
+    if (!o.box.isEmpty()) out.push_back(std::move(o));
+  };
+  for (const auto& [name, spec] : scene.environment().objects) {
+    for (const std::string& b : spec.bodies) {
+      const int id = mj_name2id(m, mjOBJ_BODY, b.c_str());
+      add(spec.bodies.size() == 1 ? name : b, type_name(spec.kind), id);
+    }
+  }
+  if (!scene.environment().visitor.body.empty()) {
+    add("visitor", "humanoid", mj_name2id(m, mjOBJ_BODY, scene.environment().visitor.body.c_str()));
+  }
+  const std::vector<ObstacleSlot>& slots = scene.obstacle_slots();
+  for (size_t s = 0; s < slots.size(); ++s) {
+    if (!skills.obstacle_active(static_cast<int>(s))) continue;
+    add("obstacle_" + std::to_string(s), "obstacle", slots[s].body);
+  }
+  return out;
+}
+
+void GroundTruthPerception::update(double time, core::PerceptualModel& model) {
+  for (core::PerceivedObject& o : scene_objects(skills_, time)) model.observe(std::move(o));
+}
+
+}  // namespace taskmatrix::mujoco

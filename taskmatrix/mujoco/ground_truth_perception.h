@@ -1,0 +1,27 @@
+// Perception mode `ground_truth`: every task object, surface, debris flake, active obstacle
+// and the visitor, with exact poses and bounding boxes from the simulation, confidence 1.
+#pragma once
+
+#include "taskmatrix/core/perceptual_model.h"
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+
+namespace taskmatrix::mujoco {
+
+// World-aligned bounding box of a body's geoms (of the body only, or of its whole subtree),
+// from the data's current poses. Empty (isEmpty()) if the body has no geoms.
+Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool subtree);
+
+class GroundTruthPerception final : public core::Perception {
+ public:
+  explicit GroundTruthPerception(const MujocoSkillset& skills) : skills_(skills) {}
+  const char* mode() const override { return "ground_truth"; }
+  void update(double time, core::PerceptualModel& model) override;
+
+ private:
+  const MujocoSkillset& skills_;
+};
+
+// Every perceivable thing of the scene as it is now (what the sensor may recognise).
+std::vector<core::PerceivedObject> scene_objects(const MujocoSkillset& skills, double time);
+
+}  // namespace taskmatrix::mujoco

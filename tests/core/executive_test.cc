@@ -1,0 +1,313 @@
+// The executive and state machines, with small test programs on a real skillset.
+#include "taskmatrix/core/executive.h"
+
+#include <gtest/gtest.h>
+
+#include "taskmatrix/core/state_machine.h"
+#include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+#include "tests/test_support.h"
+
+namespace taskmatrix::core {
+namespace {
+
+// Moves the first joint of each chain by `delta` over `duration` s, then ends with `outcome`.
+class Sweep final : public TaskProgram {
+ public:
+  explicit Sweep(const Params& p)
+      : chains_(p.list("chains")),
+        duration_(p.number("duration")),
+        delta_(p.number("delta")),
+        outcome_(p.text("outcome")) {}
+  std::vector<std::string> chains(const Skillset& skills) const override {
+    for (const std::string& c : chains_) skills.chain(c);  // throws for unknown chains
+    return chains_;
+  }
+  ConditionPtr precondition() const override { return precondition_; }
+  void start(ProgramContext& ctx) override {
+    t0_ = ctx.time();
+    q0_ = ctx.skills().configuration(chains_);
+  }
+  ProgramState step(ProgramContext& ctx) override {
+    const double s = std::min(1.0, (ctx.time() - t0_) / duration_);
+    std::vector<double> q = q0_;
+    size_t i = 0;
+    for (const std::string& c : chains_) {
+      q[i] += s * delta_;
+      i += ctx.skills().chain(c).joints.size();
+    }
+    ctx.skills().command(chains_, q);
+    if (s < 1.0) return ProgramState::kRunning;
+    if (outcome_ == "failed") return fail("test_failure: asked to fail");
+    return ProgramState::kCompleted;
+  }
+  ConditionPtr precondition_;
+
+ private:
+  std::vector<std::string> chains_;
+  double duration_, delta_;
+  std::string outcome_;
+  double t0_ = 0;
+  std::vector<double> q0_;
+};
+
+ProgramRegistry test_registry() {
+  ProgramRegistry r;
+  r.add({"sweep",
+         "test program",
+         {{"chains", ParamType::kStringList, true, {}, {}, ""},
+          {"duration", ParamType::kNumber, false, 0.2, {}, ""},
+          {"delta", ParamType::kNumber, false, 0.0, {}, ""},
+          {"outcome",
+           ParamType::kString,
+           false,
+           std::string("completed"),
+           {"completed", "failed"},
+           ""}},
+         [](const Params& p) { return std::make_unique<Sweep>(p); }});
+  r.add({"wait_for_wave", "test program with a precondition", {}, [](const Params&) {
+           Params p({{"chains", std::vector<std::string>{"head"}},
+                     {"duration", 0.1},
+                     {"delta", 0.0},
+                     {"outcome", std::string("completed")}});
+           auto s = std::make_unique<Sweep>(p);
+           s->precondition_ = postural("wave_start");
+           return s;
+         }});
+  return r;
+}
+
+class ExecutiveTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    skills_ = std::make_unique<mujoco::MujocoSkillset>(test::scene(GetParam(), "kitchen"));
+    perception_ = std::make_unique<mujoco::GroundTruthPerception>(*skills_);
+    registry_ = test_registry();
+    exec_ = std::make_unique<Executive>(*skills_, registry_, perception_.get());
+  }
+  std::vector<std::string> log_of(int id) const {
+    std::vector<std::string> out;
+    for (const Message& m : exec_->log()) {
+      if (m.sender == id) out.push_back(to_string(m.type));
+    }
+    return out;
+  }
+  std::unique_ptr<mujoco::MujocoSkillset> skills_;
+  std::unique_ptr<mujoco::GroundTruthPerception> perception_;
+  ProgramRegistry registry_;
+  std::unique_ptr<Executive> exec_;
+};
+
+TEST_P(ExecutiveTest, ProgramsOnDisjointChainsProgressTogether) {
+  const double l0 = skills_->configuration({"left_arm"})[0];
+  const double r0 = skills_->configuration({"right_arm"})[0];
+  const int a =
+      exec_->start("sweep", {{"chains", "[left_arm]"}, {"duration", "1"}, {"delta", "0.3"}});
+  const int b =
+      exec_->start("sweep", {{"chains", "[right_arm]"}, {"duration", "1"}, {"delta", "0.3"}});
+  EXPECT_TRUE(exec_->running(a));
+  EXPECT_TRUE(exec_->running(b));
+  exec_->run(0.5);
+  // Half way: both arms have moved.
+  EXPECT_GT(std::abs(skills_->configuration({"left_arm"})[0] - l0), 0.08);
+  EXPECT_GT(std::abs(skills_->configuration({"right_arm"})[0] - r0), 0.08);
+  EXPECT_TRUE(exec_->running(a) && exec_->running(b));
+  EXPECT_TRUE(exec_->run(5.0));
+  EXPECT_EQ(exec_->outcome(a)->type, MessageType::kCompleted);
+  EXPECT_EQ(exec_->outcome(b)->type, MessageType::kCompleted);
+  EXPECT_EQ(log_of(a), (std::vector<std::string>{"started", "completed"}));
+  EXPECT_EQ(exec_->holder_of_chain("left_arm"), -1);
+}
+
+TEST_P(ExecutiveTest, AProgramAskingForAHeldChainIsRefusedAndTheHolderContinues) {
+  const int a = exec_->start("sweep", {{"chains", "[left_arm]"}, {"duration", "1"}});
+  const int b = exec_->start("sweep", {{"chains", "[head, left_arm]"}});
+  EXPECT_FALSE(exec_->running(b));
+  ASSERT_NE(exec_->outcome(b), nullptr);
+  EXPECT_EQ(exec_->outcome(b)->type, MessageType::kFailed);
+  EXPECT_EQ(exec_->outcome(b)->reason, "chains_busy: left_arm held by sweep#" + std::to_string(a));
+  EXPECT_EQ(exec_->holder_of_chain("head"), -1);  // nothing of the refused program is held
+  EXPECT_TRUE(exec_->running(a));
+  EXPECT_EQ(exec_->holder_of_chain("left_arm"), a);
+  EXPECT_TRUE(exec_->run(5.0));
+  EXPECT_EQ(exec_->outcome(a)->type, MessageType::kCompleted);
+}
+
+TEST_P(ExecutiveTest, ForcedTerminationFreesTheChainsAtOnce) {
+  const int a =
+      exec_->start("sweep", {{"chains", "[torso, head]"}, {"duration", "30"}, {"delta", "0.2"}});
+  for (int k = 0; k < 20; ++k) exec_->tick();
+  exec_->halt(a);
+  EXPECT_FALSE(exec_->running(a));
+  EXPECT_EQ(exec_->outcome(a)->type, MessageType::kHalted);
+  EXPECT_EQ(exec_->holder_of_chain("torso"), -1);
+  // Halted where it was: the torso holds its position.
+  const std::vector<double> q = skills_->configuration({"torso"});
+  for (int k = 0; k < 50; ++k) exec_->tick();
+  const std::vector<double> later = skills_->configuration({"torso"});
+  for (size_t i = 0; i < q.size(); ++i) EXPECT_NEAR(later[i], q[i], 0.01);
+  const int b = exec_->start("sweep", {{"chains", "[torso]"}});
+  EXPECT_TRUE(exec_->running(b));
+}
+
+TEST_P(ExecutiveTest, APreconditionThatIsFalseFailsTheProgramBeforeItRuns) {
+  const int a = exec_->start("wait_for_wave", {});
+  ASSERT_NE(exec_->outcome(a), nullptr);
+  EXPECT_EQ(exec_->outcome(a)->reason, "precondition_false: postural(wave_start)");
+  EXPECT_EQ(exec_->holder_of_chain("head"), -1);
+}
+
+TEST_P(ExecutiveTest, BadParametersAreRejectedBeforeAnythingRuns) {
+  auto error = [&](const RawParams& p) {
+    try {
+      exec_->start("sweep", p);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error({}), "program 'sweep': parameter 'chains' (list of strings) is required");
+  EXPECT_EQ(error({{"chains", "[head]"}, {"duration", "soon"}}),
+            "program 'sweep': parameter 'duration': 'soon' is not a finite number");
+  EXPECT_EQ(error({{"chains", "[head]"}, {"outcome", "maybe"}}),
+            "program 'sweep': parameter 'outcome': 'maybe' is not one of: completed, failed");
+  EXPECT_NE(error({{"chains", "[head]"}, {"speed", "1"}}).find("parameter 'speed' is unknown"),
+            std::string::npos);
+  EXPECT_EQ(error({{"chains", "[head]"}, {"duration", "nan"}}),
+            "program 'sweep': parameter 'duration': 'nan' is not a finite number");
+  EXPECT_THROW(exec_->start("moonwalk", {}), std::invalid_argument);
+  EXPECT_FALSE(exec_->any_running());
+  // An unknown chain is found when the program asks for it: it fails, nothing is held.
+  const int a = exec_->start("sweep", {{"chains", "[tail]"}});
+  EXPECT_EQ(exec_->outcome(a)->type, MessageType::kFailed);
+  EXPECT_NE(exec_->outcome(a)->reason.find("invalid_input: "), std::string::npos);
+}
+
+MachineSpec two_step_machine(const std::string& second_outcome) {
+  MachineSpec m;
+  m.name = "two_step";
+  m.params = {{"arm", ParamType::kStringList, true, {}, {}, ""}};
+  m.states = {{"first", "sweep", {{"chains", "$arm"}, {"delta", "0.1"}}, false, true},
+              {"second", "sweep", {{"chains", "[head]"}, {"outcome", second_outcome}}, false, true},
+              {"recover", "sweep", {{"chains", "[torso]"}}, false, true},
+              {"done", "", {}, true, true},
+              {"gave_up", "", {}, true, false}};
+  m.initial = "first";
+  m.transitions = {{"first", MessageType::kCompleted, "second", {}, {}},
+                   {"second", MessageType::kCompleted, "done", {}, {}},
+                   {"second", MessageType::kFailed, "recover", {}, {}},
+                   {"recover", MessageType::kCompleted, "gave_up", {}, {}}};
+  return m;
+}
+
+TEST_P(ExecutiveTest, StateMachineTransitionsOnMessagesToAFinalState) {
+  register_machine(two_step_machine("completed"), registry_);
+  const int m = exec_->start("two_step", {{"arm", "[left_arm]"}});
+  EXPECT_TRUE(exec_->run(10.0));
+  EXPECT_EQ(exec_->outcome(m)->type, MessageType::kCompleted);
+  std::vector<std::string> sequence;
+  for (const Message& msg : exec_->log()) {
+    if (msg.program == "sweep") sequence.push_back(std::string(to_string(msg.type)));
+  }
+  EXPECT_EQ(sequence, (std::vector<std::string>{"started", "completed", "started", "completed"}));
+}
+
+TEST_P(ExecutiveTest, AFailureTakesTheFailureTransitionAndEndsInAFailureState) {
+  register_machine(two_step_machine("failed"), registry_);
+  const int m = exec_->start("two_step", {{"arm", "[right_arm]"}});
+  EXPECT_TRUE(exec_->run(10.0));
+  EXPECT_EQ(exec_->outcome(m)->type, MessageType::kFailed);
+  // The torso ran: the failure went through `recover`.
+  bool recovered = false;
+  for (const Message& msg : exec_->log())
+    recovered |= msg.type == MessageType::kStarted && msg.program == "sweep" && msg.time > 0.3;
+  EXPECT_TRUE(recovered);
+}
+
+TEST_P(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) {
+  MachineSpec m = two_step_machine("failed");
+  m.transitions.erase(m.transitions.begin() + 2);  // no "second failed" transition
+  register_machine(m, registry_);
+  const int id = exec_->start("two_step", {{"arm", "[left_arm]"}});
+  EXPECT_TRUE(exec_->run(10.0));
+  EXPECT_EQ(exec_->outcome(id)->reason, "test_failure: asked to fail");
+}
+
+TEST_P(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {
+  register_machine(two_step_machine("completed"), registry_);
+  MachineSpec outer;
+  outer.name = "outer";
+  outer.states = {{"inner", "two_step", {{"arm", "[right_arm]"}}, false, true},
+                  {"end", "", {}, true, true}};
+  outer.initial = "inner";
+  outer.transitions = {{"inner", MessageType::kCompleted, "end", {}, {}}};
+  outer.concurrent = {{"lean", "sweep", {{"chains", "[torso]"}, {"duration", "100"}}, true}};
+  register_machine(outer, registry_);
+
+  const int id = exec_->start("outer", {});
+  EXPECT_TRUE(exec_->run(10.0));
+  EXPECT_EQ(exec_->outcome(id)->type, MessageType::kCompleted) << exec_->outcome(id)->reason;
+  // The concurrent torso program ran alongside and was stopped when the machine ended.
+  EXPECT_EQ(exec_->holder_of_chain("torso"), -1);
+  bool look_halted = false;
+  for (const Message& msg : exec_->log()) look_halted |= msg.type == MessageType::kHalted;
+  EXPECT_TRUE(look_halted);
+
+  // Forced termination of the outer machine mid-way halts everything below it.
+  const int again = exec_->start("outer", {});
+  for (int k = 0; k < 10; ++k) exec_->tick();
+  EXPECT_NE(exec_->holder_of_chain("right_arm"), -1);
+  exec_->halt(again);
+  EXPECT_FALSE(exec_->any_running());
+  EXPECT_EQ(exec_->holder_of_chain("right_arm"), -1);
+  EXPECT_EQ(exec_->holder_of_chain("torso"), -1);
+}
+
+TEST_P(ExecutiveTest, MachinesAreCheckedWhenRegistered) {
+  auto error = [&](MachineSpec m) {
+    try {
+      register_machine(m, registry_);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  MachineSpec m = two_step_machine("completed");
+  m.states[0].program = "moonwalk";
+  EXPECT_EQ(error(m), "machine 'two_step', state 'first': unknown program 'moonwalk'");
+  m = two_step_machine("completed");
+  m.states[0].params["speed"] = "1";
+  EXPECT_EQ(error(m),
+            "machine 'two_step', state 'first': program 'sweep' has no parameter 'speed'");
+  m = two_step_machine("completed");
+  m.states[0].params["chains"] = "$legs";
+  EXPECT_EQ(error(m),
+            "machine 'two_step', state 'first': parameter 'chains' refers to $legs, which machine "
+            "'two_step' does not declare");
+  m = two_step_machine("completed");
+  m.states[0].params["duration"] = "$arm";
+  EXPECT_EQ(error(m),
+            "machine 'two_step', state 'first': parameter 'duration' is a number but $arm is a "
+            "list of strings");
+  m = two_step_machine("completed");
+  m.states[1].params["duration"] = "long";
+  EXPECT_EQ(error(m),
+            "machine 'two_step', state 'second': parameter 'duration': 'long' is not a finite "
+            "number");
+  m = two_step_machine("completed");
+  m.transitions.erase(m.transitions.begin());
+  EXPECT_EQ(error(m), "machine 'two_step': state 'first' has no transition on completed");
+  m = two_step_machine("completed");
+  m.transitions[0].to = "nowhere";
+  EXPECT_EQ(error(m),
+            "machine 'two_step', transition 0 (from first): target 'nowhere' is not a state");
+  m = two_step_machine("completed");
+  m.states.erase(m.states.begin() + 3, m.states.end());
+  m.transitions.resize(1);
+  EXPECT_EQ(error(m), "machine 'two_step': has no final state");
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, ExecutiveTest, ::testing::Values("tallbot", "minibot"));
+
+}  // namespace
+}  // namespace taskmatrix::core
