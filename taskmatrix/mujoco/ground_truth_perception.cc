@@ -61,6 +61,20 @@ core::Pose body_pose(const mjData* d, int body) {
 
 }  // namespace
 
+Eigen::AlignedBox3d surface_box(const mjModel* m, const mjData* d, int body) {
+  const double top = d->xpos[3 * body + 2];
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_bodyid[g] != body || m->geom_type[g] == mjGEOM_PLANE) continue;
+    Eigen::AlignedBox3d one;
+    one.setEmpty();
+    add_geom(m, d, g, one);
+    if (std::abs(one.max().z() - top) <= 0.005) box.extend(one);
+  }
+  return box.isEmpty() ? body_box(m, d, body, false) : box;
+}
+
 Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool subtree) {
   Eigen::AlignedBox3d box;
   box.setEmpty();
@@ -84,7 +98,7 @@ std::vector<core::PerceivedObject> scene_objects(const MujocoSkillset& skills, d
     o.id = std::move(id);
     o.type = std::move(type);
     o.pose = body_pose(d, body);
-    o.box = body_box(m, d, body, true);
+    o.box = o.type == "surface" ? surface_box(m, d, body) : body_box(m, d, body, true);
     o.last_seen = time;
     o.confidence = 1.0;
     if (!o.box.isEmpty()) out.push_back(std::move(o));

@@ -11,6 +11,11 @@ namespace taskmatrix::mujoco {
 // from the data's current poses. Empty (isEmpty()) if the body has no geoms.
 Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool subtree);
 
+// A surface's box: its geoms whose top is the body origin's height (the environment
+// convention: a surface body's origin is the centre of its top face), so a monitor on a desk
+// is not part of the desk's top.
+Eigen::AlignedBox3d surface_box(const mjModel* m, const mjData* d, int body);
+
 class GroundTruthPerception final : public core::Perception {
  public:
   explicit GroundTruthPerception(const MujocoSkillset& skills) : skills_(skills) {}

@@ -1,0 +1,127 @@
+// Conditions in true and false cases, on a real scene with ground-truth perception, and
+// placements generated from them.
+#include "taskmatrix/core/conditions.h"
+
+#include <gtest/gtest.h>
+
+#include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+#include "tests/test_support.h"
+
+namespace taskmatrix::core {
+namespace {
+
+PerceivedObject box_object(const std::string& id, Eigen::Vector3d lo, Eigen::Vector3d hi) {
+  PerceivedObject o;
+  o.id = id;
+  o.type = "graspable";
+  o.box = Eigen::AlignedBox3d(lo, hi);
+  o.pose.position = o.box.center();
+  return o;
+}
+
+class ConditionsTest : public ::testing::TestWithParam<test::RobotEnv> {
+ protected:
+  void SetUp() override {
+    skills_ = std::make_unique<mujoco::MujocoSkillset>(
+        test::scene(GetParam().robot, GetParam().environment));
+    mujoco::GroundTruthPerception(*skills_).update(0, percepts_);
+  }
+  World world() { return World{*skills_, percepts_}; }
+  std::unique_ptr<mujoco::MujocoSkillset> skills_;
+  PerceptualModel percepts_;
+};
+
+TEST_P(ConditionsTest, NearAndAboveOnHandMadeBoxes) {
+  percepts_.observe(box_object("a", {0, 0, 1.0}, {0.1, 0.1, 1.1}));
+  percepts_.observe(box_object("b", {0.15, 0, 1.0}, {0.3, 0.1, 1.1}));     // 5 cm to the side
+  percepts_.observe(box_object("c", {-0.5, -0.5, 0.5}, {0.5, 0.5, 1.0}));  // a table under a
+  EXPECT_TRUE(near("a", "b")->holds(world()));
+  EXPECT_FALSE(near("a", "b", 0.04)->holds(world()));
+  EXPECT_TRUE(above("a", "c")->holds(world()));
+  EXPECT_FALSE(above("c", "a")->holds(world()));
+  EXPECT_FALSE(above("a", "b")->holds(world()));     // projections do not intersect
+  EXPECT_FALSE(near("a", "ghost")->holds(world()));  // unknown objects make it false
+  EXPECT_TRUE(negate(near("a", "ghost"))->holds(world()));
+  EXPECT_TRUE(any_of({near("a", "ghost"), above("a", "c")})->holds(world()));
+  EXPECT_FALSE(all_of({near("a", "ghost"), above("a", "c")})->holds(world()));
+  EXPECT_EQ(all_of({near("a", "b"), negate(above("a", "c"))})->describe(),
+            "all_of(near(a, b, 0.1), not(above(a, c)))");
+}
+
+TEST_P(ConditionsTest, TheCupStandsOnTheWorkSurfaceAtTheStart) {
+  ASSERT_TRUE(percepts_.knows("cup"));
+  ASSERT_TRUE(percepts_.knows("work_surface"));
+  const Eigen::AlignedBox3d cup = percepts_.find("cup")->box;
+  const Eigen::AlignedBox3d top = percepts_.find("work_surface")->box;
+  EXPECT_TRUE(above("cup", "work_surface")->holds(world()))
+      << "cup " << cup.min().transpose() << " .. " << cup.max().transpose() << ", surface "
+      << top.min().transpose() << " .. " << top.max().transpose();
+  EXPECT_TRUE(near("cup", "work_surface")->holds(world()));
+  EXPECT_FALSE(above("work_surface", "cup")->holds(world()));
+}
+
+TEST_P(ConditionsTest, PlacementsDrawnFromAboveAndNearSatisfyBoth) {
+  const ConditionPtr on_table = all_of({above("cup", "work_surface"), near("cup", "work_surface")});
+  std::mt19937_64 rng(4);
+  const std::vector<Eigen::AlignedBox3d> boxes =
+      sample_placements(*on_table, world(), "cup", rng, 20);
+  ASSERT_EQ(boxes.size(), 20u);
+  const Eigen::AlignedBox3d table = percepts_.find("work_surface")->box;
+  const Eigen::Vector3d cup_size = percepts_.find("cup")->box.sizes();
+  for (const Eigen::AlignedBox3d& b : boxes) {
+    const Hypothesis h{"cup", b};
+    EXPECT_TRUE(above("cup", "work_surface")->holds(world(), &h));
+    EXPECT_TRUE(near("cup", "work_surface")->holds(world(), &h));
+    EXPECT_NEAR(b.min().z(), table.max().z(), 1e-9);  // resting on the top
+    EXPECT_LT((b.sizes() - cup_size).norm(), 1e-9);   // same size
+  }
+  // The conjunction with a condition that cannot hold yields nothing.
+  const ConditionPtr impossible = all_of({above("cup", "work_surface"), near("cup", "ghost")});
+  EXPECT_TRUE(sample_placements(*impossible, world(), "cup", rng, 5, 100).empty());
+}
+
+TEST_P(ConditionsTest, PosturalFollowsTheChains) {
+  EXPECT_TRUE(postural("rest")->holds(world()));
+  EXPECT_FALSE(postural("fist")->holds(world()));
+  const Posture& fist = skills_->posture("fist");
+  skills_->set_configuration({"left_hand"}, fist.at("left_hand"));
+  EXPECT_FALSE(postural("fist")->holds(world()));  // the right hand is still open
+  EXPECT_TRUE(postural("fist", {"left_hand"})->holds(world()));
+  EXPECT_FALSE(postural("rest")->holds(world()));
+}
+
+TEST_P(ConditionsTest, GraspingAndGraspableFollowTheHands) {
+  EXPECT_FALSE(graspable("cup")->holds(world()));
+  EXPECT_FALSE(grasping("cup")->holds(world()));
+  // Put the left palm's origin at the cup's centre (ignoring collisions): graspable by the
+  // left hand only.
+  const std::string palm = skills_->profile().find_hand("left")->palm;
+  Pose target = skills_->frame_pose(palm);
+  target.position = percepts_.find("cup")->box.center();
+  IkOptions ik;
+  ik.orientation = false;
+  ik.collision_free = false;
+  ik.restarts = 60;
+  const std::vector<std::string> chains = {"base", "torso", "left_arm"};
+  const IkResult r = skills_->solve_ik(chains, palm, target, ik);
+  ASSERT_EQ(r.status, IkStatus::kSolved) << r.reason;
+  skills_->set_configuration(chains, r.solutions.front());
+  EXPECT_TRUE(graspable("cup")->holds(world()));
+  EXPECT_TRUE(graspable("cup", "left")->holds(world()));
+  EXPECT_FALSE(graspable("cup", "right")->holds(world()));
+  skills_->attach("cup", "left");
+  EXPECT_TRUE(grasping("cup")->holds(world()));
+  EXPECT_EQ(skills_->holder_of("cup"), "left");
+  EXPECT_FALSE(graspable("cup")->holds(world()));  // already held
+  skills_->detach("cup");
+  EXPECT_FALSE(grasping("cup")->holds(world()));
+}
+
+INSTANTIATE_TEST_SUITE_P(RobotsAndEnvironments, ConditionsTest,
+                         ::testing::Values(test::RobotEnv{"tallbot", "kitchen"},
+                                           test::RobotEnv{"minibot", "office"}),
+                         [](const auto& p) { return test::pair_name(p.param); });
+
+}  // namespace
+}  // namespace taskmatrix::core
