@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/state_machine.h"
+#include "taskmatrix/io/machine_file.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 #include "tests/test_support.h"
@@ -305,6 +307,58 @@ TEST_P(ExecutiveTest, MachinesAreCheckedWhenRegistered) {
   m.states.erase(m.states.begin() + 3, m.states.end());
   m.transitions.resize(1);
   EXPECT_EQ(error(m), "machine 'two_step': has no final state");
+}
+
+TEST_P(ExecutiveTest, MachinesFromYamlRunAndBadFilesNameFileLineAndKey) {
+  test::ScratchRoot root;
+  const std::string good = R"(name: wave_then_nod
+doc: two sweeps in sequence
+parameters:
+  arm: {type: strings}
+  amount: {type: number, default: 0.1}
+concurrent:
+  lean: {program: sweep, params: {chains: [torso], duration: 100}}
+initial: swing
+states:
+  swing: {program: sweep, params: {chains: $arm, delta: $amount}}
+  nod: {program: sweep, params: {chains: [head]}}
+  done: {final: success}
+transitions:
+  - {from: swing, on: completed, to: nod}
+  - {from: nod, on: completed, to: done, stop: [lean]}
+)";
+  root.write("good.yaml", good);
+  io::load_and_register_machine(root.file("good.yaml"), registry_);
+  const int id = exec_->start("wave_then_nod", {{"arm", "[left_arm]"}});
+  EXPECT_TRUE(exec_->run(10.0));
+  EXPECT_EQ(exec_->outcome(id)->type, MessageType::kCompleted);
+
+  auto error = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    root.write("bad.yaml", text);
+    ProgramRegistry fresh = test_registry();
+    try {
+      io::load_and_register_machine(root.file("bad.yaml"), fresh);
+    } catch (const InputError& e) {
+      return std::string(e.what()).substr(root.path().string().size() + 1);
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("on: completed, to: nod", "on: finished, to: nod"),
+            "bad.yaml:14: transitions[0].on: 'finished' is not a message (started, "
+            "planning_started, planning_ended, completed, failed, halted)");
+  EXPECT_EQ(error("nod: {program: sweep", "nod: {program: swep"),
+            "bad.yaml:11: states.nod: machine 'wave_then_nod', state 'nod': unknown "
+            "program 'swep'");
+  EXPECT_EQ(error("delta: $amount", "delta: $arm"),
+            "bad.yaml:10: states.swing: machine 'wave_then_nod', state 'swing': "
+            "parameter 'delta' is a number but $arm is a list of strings");
+  EXPECT_EQ(error("amount: {type: number, default: 0.1}", "amount: {type: number, default: lots}"),
+            "bad.yaml:5: parameters.amount.default: 'lots' is not a finite number");
+  EXPECT_EQ(error("initial: swing", "initial: swing\nrepeat: 2"),
+            "bad.yaml:9: repeat: unknown key (expected one of: name, doc, parameters, "
+            "concurrent, initial, states, transitions)");
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, ExecutiveTest, ::testing::Values("tallbot", "minibot"));
