@@ -19,6 +19,20 @@ std::optional<Eigen::AlignedBox3d> box_of(const World& world, const std::string&
   return o->box;
 }
 
+// A box of `a`'s size resting on `b`'s top face, its centre drawn uniformly so that it lies
+// within `b`'s footprint grown by `grow` (or anywhere over the footprint if it does not fit).
+Eigen::AlignedBox3d resting_on(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
+                               double grow, std::mt19937_64& rng) {
+  const Eigen::Vector3d half = a.sizes() / 2;
+  Eigen::Vector3d centre(0, 0, b.max().z() + half.z());
+  for (int i = 0; i < 2; ++i) {
+    double lo = b.min()[i] - grow + half[i], hi = b.max()[i] + grow - half[i];
+    if (lo > hi) lo = b.min()[i], hi = b.max()[i];
+    centre[i] = std::uniform_real_distribution<double>(lo, hi)(rng);
+  }
+  return Eigen::AlignedBox3d(centre - half, centre + half);
+}
+
 class Near final : public Condition {
  public:
   Near(std::string a, std::string b, double d) : a_(std::move(a)), b_(std::move(b)), d_(d) {}
@@ -31,19 +45,13 @@ class Near final : public Condition {
     s << "near(" << a_ << ", " << b_ << ", " << d_ << ")";
     return s.str();
   }
-  // Places `object` (keeping its size) on top of b's box, or beside it on the same floor.
+  // On top of b, anywhere within d of its footprint.
   std::optional<Eigen::AlignedBox3d> propose(const World& w, const std::string& object,
                                              std::mt19937_64& rng) const override {
     if (object != a_) return std::nullopt;
     const auto a = box_of(w, a_, nullptr), b = box_of(w, b_, nullptr);
     if (!a || !b) return std::nullopt;
-    const Eigen::Vector3d half = a->sizes() / 2;
-    std::uniform_real_distribution<double> ux(b->min().x() - d_ + half.x(),
-                                              b->max().x() + d_ - half.x());
-    std::uniform_real_distribution<double> uy(b->min().y() - d_ + half.y(),
-                                              b->max().y() + d_ - half.y());
-    const Eigen::Vector3d centre(ux(rng), uy(rng), b->max().z() + half.z());
-    return Eigen::AlignedBox3d(centre - half, centre + half);
+    return resting_on(*a, *b, d_, rng);
   }
 
  private:
@@ -68,15 +76,7 @@ class Above final : public Condition {
     if (object != a_) return std::nullopt;
     const auto a = box_of(w, a_, nullptr), b = box_of(w, b_, nullptr);
     if (!a || !b) return std::nullopt;
-    const Eigen::Vector3d half = a->sizes() / 2;
-    auto range = [&](double lo, double hi, double h) {
-      return lo + h <= hi - h ? std::uniform_real_distribution<double>(lo + h, hi - h)
-                              : std::uniform_real_distribution<double>(lo, hi);
-    };
-    auto ux = range(b->min().x(), b->max().x(), half.x());
-    auto uy = range(b->min().y(), b->max().y(), half.y());
-    const Eigen::Vector3d centre(ux(rng), uy(rng), b->max().z() + half.z());
-    return Eigen::AlignedBox3d(centre - half, centre + half);
+    return resting_on(*a, *b, 0.0, rng);
   }
 
  private:

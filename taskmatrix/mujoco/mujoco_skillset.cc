@@ -88,6 +88,16 @@ void MujocoSkillset::reset() {
   mj_forward(worker_.model(), d);
 }
 
+std::optional<core::PlanResult> MujocoSkillset::plan_joints(
+    const std::vector<std::string>& chain_names, std::vector<int>& joints) const {
+  try {
+    joints = joints_of(chain_names);
+  } catch (const std::invalid_argument& e) {
+    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
+  }
+  return std::nullopt;
+}
+
 std::vector<int> MujocoSkillset::joints_of(const std::vector<std::string>& chain_names) const {
   if (chain_names.empty()) throw std::invalid_argument("no chains given");
   std::vector<int> joints;
@@ -263,11 +273,7 @@ core::PlanResult MujocoSkillset::plan_to_configuration(const std::vector<std::st
                                                        const std::vector<double>& goal,
                                                        const core::PlanOptions& options) {
   std::vector<int> joints;
-  try {
-    joints = joints_of(chain_names);
-  } catch (const std::invalid_argument& e) {
-    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
-  }
+  if (auto bad = plan_joints(chain_names, joints)) return *bad;
   sync_query();
   MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
   return planner.plan({goal}, options);
@@ -279,11 +285,7 @@ core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& c
                                                const core::PlanOptions& options,
                                                const core::IkOptions& ik) {
   std::vector<int> joints;
-  try {
-    joints = joints_of(chain_names);
-  } catch (const std::invalid_argument& e) {
-    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
-  }
+  if (auto bad = plan_joints(chain_names, joints)) return *bad;
   if (targets.empty()) return plan_failure(core::PlanStatus::kInvalidInput, "no target poses");
   core::PlanResult total;
   total.status = core::PlanStatus::kIkFailure;
@@ -333,11 +335,7 @@ core::PlanResult MujocoSkillset::plan_to_region(const std::vector<std::string>& 
                                                 const core::GoalRegion& region,
                                                 const core::PlanOptions& options) {
   std::vector<int> joints;
-  try {
-    joints = joints_of(chain_names);
-  } catch (const std::invalid_argument& e) {
-    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
-  }
+  if (auto bad = plan_joints(chain_names, joints)) return *bad;
   if (!region.sample || region.max_draws <= 0 || region.max_goals <= 0) {
     return plan_failure(core::PlanStatus::kInvalidInput,
                         "a goal region needs a sampler and positive draw and goal counts");

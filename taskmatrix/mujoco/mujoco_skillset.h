@@ -12,6 +12,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,9 @@ class MujocoSkillset final : public core::Skillset {
   };
   // Joint ids of the chains, in order; throws std::invalid_argument for an unknown chain.
   std::vector<int> joints_of(const std::vector<std::string>& chain_names) const;
+  // joints_of for planning calls: an unknown chain becomes an invalid_input result.
+  std::optional<core::PlanResult> plan_joints(const std::vector<std::string>& chain_names,
+                                              std::vector<int>& joints) const;
   // Throws std::invalid_argument unless `values` fits the chains and is finite.
   void check_values(const std::vector<std::string>& chain_names, const std::vector<int>& joints,
                     const std::vector<double>& values, const char* what) const;
