@@ -232,8 +232,4 @@ double box_distance(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) 
   return gap.norm();
 }
 
-std::string holding_side(Skillset& skills, const std::string& object) {
-  return skills.holder_of(object);
-}
-
 }  // namespace taskmatrix::core

@@ -67,7 +67,5 @@ std::vector<Eigen::AlignedBox3d> sample_placements(const Condition& condition, c
 
 // The distance between two boxes (0 if they overlap).
 double box_distance(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b);
-// Which hand holds `object`: "left", "right", or "" if none. Uses the skillset's attachments.
-std::string holding_side(Skillset& skills, const std::string& object);
 
 }  // namespace taskmatrix::core

@@ -1,4 +1,4 @@
-// State machines in YAML (see scenarios/README.md for the format):
+// State machines in YAML (format and rules also in scenarios/README.md):
 //
 //   name: fetch                      # the program name the machine registers under
 //   doc: reach for an object and grasp it

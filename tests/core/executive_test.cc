@@ -219,11 +219,15 @@ TEST_P(ExecutiveTest, AFailureTakesTheFailureTransitionAndEndsInAFailureState) {
   const int m = exec_->start("two_step", {{"arm", "[right_arm]"}});
   EXPECT_TRUE(exec_->run(10.0));
   EXPECT_EQ(exec_->outcome(m)->type, MessageType::kFailed);
-  // The torso ran: the failure went through `recover`.
-  bool recovered = false;
-  for (const Message& msg : exec_->log())
-    recovered |= msg.type == MessageType::kStarted && msg.program == "sweep" && msg.time > 0.3;
-  EXPECT_TRUE(recovered);
+  // The failure went through `recover` (a third sweep, on the torso) to `gave_up`.
+  std::vector<int> sweeps;
+  for (const Message& msg : exec_->log()) {
+    if (msg.program == "sweep" && msg.type == MessageType::kStarted) sweeps.push_back(msg.sender);
+  }
+  ASSERT_EQ(sweeps.size(), 3u);
+  EXPECT_EQ(exec_->outcome(sweeps[1])->reason, "test_failure: asked to fail");
+  EXPECT_EQ(exec_->outcome(sweeps[2])->type, MessageType::kCompleted);
+  EXPECT_EQ(exec_->outcome(m)->reason, "final state gave_up");
 }
 
 TEST_P(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) {
