@@ -21,6 +21,97 @@ const HandSpec* RobotProfile::find_hand(std::string_view side) const {
   return nullptr;
 }
 
+std::string mirror_chain(std::string_view chain) {
+  if (chain.substr(0, 5) == "left_") return "right_" + std::string(chain.substr(5));
+  if (chain.substr(0, 6) == "right_") return "left_" + std::string(chain.substr(6));
+  return "";
+}
+
+std::string chain_kind(std::string_view chain) {
+  if (chain.substr(0, 5) == "left_") return std::string(chain.substr(5));
+  if (chain.substr(0, 6) == "right_") return std::string(chain.substr(6));
+  return "";
+}
+
+namespace {
+
+void validate_mirroring(const RobotProfile& p, const std::string& file) {
+  for (const ChainSpec& c : p.chains) {
+    const std::string kind = chain_kind(c.name);
+    if (kind.empty()) continue;
+    const auto it = p.mirror_signs.find(kind);
+    if (it == p.mirror_signs.end()) {
+      throw InputError(file, "mirror_signs",
+                       "has no entry '" + kind + "' for chain '" + c.name + "'");
+    }
+    if (it->second.size() != c.joints.size()) {
+      throw InputError(file, "mirror_signs." + kind,
+                       "has " + std::to_string(it->second.size()) + " signs but chain '" + c.name +
+                           "' has " + std::to_string(c.joints.size()) + " joints");
+    }
+    if (!p.find_chain(mirror_chain(c.name))) {
+      throw InputError(file, "chains",
+                       "chain '" + c.name + "' has no mirror chain '" + mirror_chain(c.name) + "'");
+    }
+  }
+  for (const auto& [kind, signs] : p.mirror_signs) {
+    for (double s : signs) {
+      if (s != 1.0 && s != -1.0) {
+        throw InputError(file, "mirror_signs." + kind, "signs must be 1 or -1");
+      }
+    }
+  }
+}
+
+void validate_canned(const RobotProfile& p, const std::string& file) {
+  for (const auto& [name, motion] : p.canned) {
+    const std::string key = "canned." + name;
+    if (motion.chains.empty()) throw InputError(file, key + ".chains", "is empty");
+    size_t dof = 0;
+    std::vector<double> velocity;  // per joint
+    for (const std::string& c : motion.chains) {
+      const ChainSpec* chain = p.find_chain(c);
+      if (!chain) throw InputError(file, key + ".chains", "names unknown chain '" + c + "'");
+      dof += chain->joints.size();
+      velocity.insert(velocity.end(), chain->joints.size(), p.speed_limits.at(c).velocity);
+    }
+    if (motion.keyframes.size() < 2) {
+      throw InputError(file, key + ".keyframes", "needs at least two keyframes");
+    }
+    for (size_t k = 0; k < motion.keyframes.size(); ++k) {
+      const CannedMotion::Keyframe& f = motion.keyframes[k];
+      const std::string fkey = key + ".keyframes[" + std::to_string(k) + "]";
+      if (f.values.size() != dof) {
+        throw InputError(file, fkey,
+                         "has " + std::to_string(f.values.size()) +
+                             " joint values but the chains have " + std::to_string(dof) +
+                             " joints (write [time, values...])");
+      }
+      for (double v : f.values) {
+        if (!std::isfinite(v)) throw InputError(file, fkey, "holds a non-finite value");
+      }
+      if (k == 0 && f.time_s != 0.0) throw InputError(file, fkey, "must start at time 0");
+      if (k == 0) continue;
+      const CannedMotion::Keyframe& prev = motion.keyframes[k - 1];
+      const double dt = f.time_s - prev.time_s;
+      if (!(std::isfinite(f.time_s) && dt > 0)) {
+        throw InputError(file, fkey, "time must be finite and later than the keyframe before");
+      }
+      for (size_t j = 0; j < dof; ++j) {
+        const double v = std::abs(f.values[j] - prev.values[j]) / dt;
+        if (v > velocity[j] * (1 + 1e-9)) {
+          throw InputError(file, fkey,
+                           "joint " + std::to_string(j) + " moves at " + std::to_string(v) +
+                               " per second, above the speed limit " + std::to_string(velocity[j]) +
+                               " of its chain");
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
 void validate_profile_structure(const RobotProfile& p) {
   const std::string file = p.profile_file.string();
   for (std::string_view required : kRequiredChains) {
@@ -92,6 +183,11 @@ void validate_profile_structure(const RobotProfile& p) {
     if (!sides.insert(h.side).second) throw InputError(file, key, "declared twice");
     if (h.palm.empty()) throw InputError(file, key + ".palm", "is missing");
     if (h.fingers.empty()) throw InputError(file, key + ".fingers", "is empty");
+    const double norm = std::sqrt(h.approach[0] * h.approach[0] + h.approach[1] * h.approach[1] +
+                                  h.approach[2] * h.approach[2]);
+    if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-6) {
+      throw InputError(file, key + ".approach", "must be a unit vector");
+    }
     const ChainSpec* hand_chain = p.find_chain(h.side + "_hand");
     for (size_t f = 0; f < h.fingers.size(); ++f) {
       const FingerSpec& finger = h.fingers[f];
@@ -111,6 +207,8 @@ void validate_profile_structure(const RobotProfile& p) {
   if (!std::isfinite(p.height_m) || p.height_m <= 0.0) {
     throw InputError(file, "height_m", "must be a positive number of metres");
   }
+  validate_mirroring(p, file);
+  validate_canned(p, file);
 }
 
 }  // namespace taskmatrix::core

@@ -25,8 +25,22 @@ struct FingerSpec {
 
 struct HandSpec {
   std::string side;  // "left" or "right"
-  std::string palm;  // frame (site or body)
+  std::string palm;  // frame (site or body) at the grasp centre
+  // Unit axis, in the palm frame, pointing from the palm towards a grasped object: reach
+  // brings the hand in along it.
+  std::array<double, 3> approach{0, 0, 1};
   std::vector<FingerSpec> fingers;
+};
+
+// A predetermined joint-space motion (paper: canned task programs such as wave and bow):
+// keyframes of the listed chains, played with linear interpolation between them.
+struct CannedMotion {
+  std::vector<std::string> chains;
+  struct Keyframe {
+    double time_s = 0;           // from the start of the motion, strictly increasing, first 0
+    std::vector<double> values;  // the chains' joints, concatenated in the listed order
+  };
+  std::vector<Keyframe> keyframes;
 };
 
 // The head camera. For MJCF robots it is a <camera> in the model (only `name` is set); URDF
@@ -63,6 +77,10 @@ struct RobotProfile {
   std::vector<HandSpec> hands;
   std::map<std::string, Posture> postures;
   std::map<std::string, SpeedLimit> speed_limits;  // chain name -> limits, one per chain
+  // Mirroring a limb posture or motion to the other side ("left_arm" <-> "right_arm"): per
+  // chain kind ("arm", "hand"), the sign each joint value takes on the other side.
+  std::map<std::string, std::vector<double>> mirror_signs;
+  std::map<std::string, CannedMotion> canned;
   // Position-actuator gains the URDF importer uses (chain name -> kp); MJCF robots carry
   // their own actuators.
   std::map<std::string, double> actuator_kp;
@@ -71,14 +89,22 @@ struct RobotProfile {
   const HandSpec* find_hand(std::string_view side) const;
 };
 
+// The other side's chain of a limb chain ("left_arm" -> "right_arm"), or "" for a chain that
+// has no side.
+std::string mirror_chain(std::string_view chain);
+// The chain kind mirror signs are keyed by: "left_arm" -> "arm"; "" for a chain with no side.
+std::string chain_kind(std::string_view chain);
+
 inline constexpr std::array<std::string_view, 7> kRequiredChains = {
     "base", "torso", "head", "left_arm", "right_arm", "left_hand", "right_hand"};
 inline constexpr std::array<std::string_view, 3> kRequiredPostures = {"rest", "hand_open", "fist"};
 
 // Checks what can be checked without the model: required chains and postures exist, chains
 // are disjoint, the base chain has three joints, postures name known chains with the right
-// number of finite values, hands name their fingers consistently. Throws InputError naming
-// the profile file and key. Every chain needs speed limits.
+// number of finite values, hands name their fingers consistently and have a unit approach
+// axis, mirror signs fit the left/right chains, canned motions are well formed and within
+// the chains' speed limits. Throws InputError naming the profile file and key. Every chain
+// needs speed limits.
 void validate_profile_structure(const RobotProfile& profile);
 
 }  // namespace taskmatrix::core

@@ -63,7 +63,8 @@ core::Rect2 read_rect(const YamlNode& node) {
 core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file) {
   const YamlNode root = YamlNode::load_file(profile_file);
   root.expect_keys({"name", "model", "urdf", "height_m", "chains", "head_camera", "hands",
-                    "postures", "speed_limits", "actuator_kp", "description"});
+                    "postures", "speed_limits", "mirror_signs", "canned", "actuator_kp",
+                    "description"});
   const std::filesystem::path dir = profile_file.parent_path();
   core::RobotProfile p;
   p.profile_file = profile_file;
@@ -97,10 +98,14 @@ core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file)
   }
 
   for (const auto& [side, node] : root.required("hands").entries()) {
-    node.expect_keys({"palm", "fingers"});
+    node.expect_keys({"palm", "approach", "fingers"});
     core::HandSpec hand;
     hand.side = side;
     hand.palm = node.required("palm").as_string();
+    const YamlNode approach = node.required("approach");
+    const std::vector<double> axis = approach.as_doubles();
+    if (axis.size() != 3) approach.fail("must be a unit vector [x, y, z] in the palm frame");
+    hand.approach = {axis[0], axis[1], axis[2]};
     for (const YamlNode& f : node.required("fingers").items()) {
       f.expect_keys({"joints", "bodies"});
       hand.fingers.push_back(
@@ -120,6 +125,22 @@ core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file)
     node.expect_keys({"velocity", "acceleration"});
     p.speed_limits[chain_name] = {node.required("velocity").as_positive_double(),
                                   node.required("acceleration").as_positive_double()};
+  }
+  for (const auto& [kind, node] : root.required("mirror_signs").entries()) {
+    p.mirror_signs[kind] = node.as_doubles();
+  }
+  if (auto canned = root.optional("canned")) {
+    for (const auto& [motion_name, node] : canned->entries()) {
+      node.expect_keys({"chains", "keyframes"});
+      core::CannedMotion motion;
+      motion.chains = node.required("chains").as_strings();
+      for (const YamlNode& k : node.required("keyframes").items()) {
+        std::vector<double> row = k.as_doubles();
+        if (row.size() < 2) k.fail("must be [time_s, joint values...]");
+        motion.keyframes.push_back({row[0], std::vector<double>(row.begin() + 1, row.end())});
+      }
+      p.canned[motion_name] = std::move(motion);
+    }
   }
   if (auto kp = root.optional("actuator_kp")) {
     for (const auto& [chain_name, value] : kp->entries()) {

@@ -186,18 +186,38 @@ void Scene::index_and_validate() {
                      "camera '" + robot_.head_camera.name + "' is not a camera of the robot");
   }
 
-  // Postures within limits.
+  // Postures, their mirror images and canned keyframes within limits.
+  auto check_limits = [&](const std::string& chain_name, const double* values,
+                          const std::string& key) {
+    const ChainIndex& c = chain(chain_name);
+    for (size_t i = 0; i < c.joints.size(); ++i) {
+      if (values[i] < c.lower[i] - 1e-9 || values[i] > c.upper[i] + 1e-9) {
+        throw InputError(pfile, key,
+                         "value " + std::to_string(values[i]) + " for joint '" +
+                             mj_id2name(m, mjOBJ_JOINT, c.joints[i]) + "' is outside [" +
+                             std::to_string(c.lower[i]) + ", " + std::to_string(c.upper[i]) + "]");
+      }
+    }
+  };
   for (const auto& [posture_name, posture] : robot_.postures) {
     for (const auto& [chain_name, values] : posture) {
-      const ChainIndex& c = chain(chain_name);
-      for (size_t i = 0; i < values.size(); ++i) {
-        if (values[i] < c.lower[i] - 1e-9 || values[i] > c.upper[i] + 1e-9) {
-          throw InputError(pfile, "postures." + posture_name + "." + chain_name,
-                           "value " + std::to_string(values[i]) + " for joint '" +
-                               mj_id2name(m, mjOBJ_JOINT, c.joints[i]) + "' is outside [" +
-                               std::to_string(c.lower[i]) + ", " + std::to_string(c.upper[i]) +
-                               "]");
-        }
+      const std::string key = "postures." + posture_name + "." + chain_name;
+      check_limits(chain_name, values.data(), key);
+      const std::string other = core::mirror_chain(chain_name);
+      if (other.empty()) continue;
+      const std::vector<double>& signs = robot_.mirror_signs.at(core::chain_kind(chain_name));
+      std::vector<double> mirrored(values.size());
+      for (size_t i = 0; i < values.size(); ++i) mirrored[i] = signs[i] * values[i];
+      check_limits(other, mirrored.data(), key + " (mirrored to " + other + ")");
+    }
+  }
+  for (const auto& [motion_name, motion] : robot_.canned) {
+    for (size_t k = 0; k < motion.keyframes.size(); ++k) {
+      size_t offset = 0;
+      for (const std::string& chain_name : motion.chains) {
+        check_limits(chain_name, motion.keyframes[k].values.data() + offset,
+                     "canned." + motion_name + ".keyframes[" + std::to_string(k) + "]");
+        offset += chain(chain_name).joints.size();
       }
     }
   }

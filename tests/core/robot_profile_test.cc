@@ -21,8 +21,10 @@ RobotProfile valid_profile() {
               {"right_arm", {"ra1", "ra2"}, "rp"},
               {"left_hand", {"lf1", "lf2"}, ""},
               {"right_hand", {"rf1", "rf2"}, ""}};
-  p.hands = {{"left", "lp", {{{"lf1", "lf2"}, {"lf1b", "lf2b"}}}},
-             {"right", "rp", {{{"rf1", "rf2"}, {"rf1b", "rf2b"}}}}};
+  p.hands = {{"left", "lp", {0, 0, 1}, {{{"lf1", "lf2"}, {"lf1b", "lf2b"}}}},
+             {"right", "rp", {0, 0, 1}, {{{"rf1", "rf2"}, {"rf1b", "rf2b"}}}}};
+  p.mirror_signs = {{"arm", {1, -1}}, {"hand", {1, 1}}};
+  p.canned["wave"] = {{"left_arm"}, {{0.0, {0, 0}}, {1.0, {0.5, -0.5}}}};
   p.postures = {{"rest", {{"left_arm", {0, 0}}}},
                 {"hand_open", {{"left_hand", {0, 0}}}},
                 {"fist", {{"left_hand", {1, 1}}}}};
@@ -40,6 +42,51 @@ std::string error_of(const RobotProfile& p) {
 }
 
 TEST(RobotProfile, AValidProfilePasses) { EXPECT_EQ(error_of(valid_profile()), ""); }
+
+TEST(RobotProfile, HandsNeedAUnitApproachAxis) {
+  RobotProfile p = valid_profile();
+  p.hands[1].approach = {0, 0, 2};
+  EXPECT_NE(error_of(p).find("hands.right.approach: must be a unit vector"), std::string::npos)
+      << error_of(p);
+}
+
+TEST(RobotProfile, MirrorSignsMustFitTheLimbChains) {
+  RobotProfile p = valid_profile();
+  p.mirror_signs.erase("hand");
+  EXPECT_NE(error_of(p).find("mirror_signs: has no entry 'hand' for chain 'left_hand'"),
+            std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.mirror_signs["arm"] = {1};
+  EXPECT_NE(error_of(p).find("mirror_signs.arm: has 1 signs but chain 'left_arm' has 2 joints"),
+            std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.mirror_signs["arm"] = {1, 0.5};
+  EXPECT_NE(error_of(p).find("mirror_signs.arm: signs must be 1 or -1"), std::string::npos);
+}
+
+TEST(RobotProfile, CannedMotionsAreCheckedAgainstTheSpeedLimits) {
+  RobotProfile p = valid_profile();
+  p.canned["wave"].keyframes[1].time_s = 0.25;  // 0.5 rad in 0.25 s: 2 rad/s > 1 rad/s
+  EXPECT_NE(error_of(p).find("canned.wave.keyframes[1]: joint 0 moves at 2.0"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.canned["wave"].keyframes[1].values.pop_back();
+  EXPECT_NE(error_of(p).find("canned.wave.keyframes[1]: has 1 joint values but the chains have 2"),
+            std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.canned["wave"].keyframes[0].time_s = 0.5;
+  EXPECT_NE(error_of(p).find("keyframes[0]: must start at time 0"), std::string::npos);
+  p = valid_profile();
+  p.canned["wave"].keyframes.pop_back();
+  EXPECT_NE(error_of(p).find("canned.wave.keyframes: needs at least two keyframes"),
+            std::string::npos);
+  p = valid_profile();
+  p.canned["wave"].chains = {"tail"};
+  EXPECT_NE(error_of(p).find("canned.wave.chains: names unknown chain 'tail'"), std::string::npos);
+}
 
 TEST(RobotProfile, ChainsMustBeDisjoint) {
   RobotProfile p = valid_profile();

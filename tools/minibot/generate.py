@@ -207,6 +207,21 @@ POSTURES = {
     "wave_start": {"right_arm": [0.0, -1.3, -1.5708, -1.6, 0.0]},
 }
 
+# Left <-> right mirroring: the sign each joint takes on the other side (the left arm's roll,
+# elbow yaw and wrist yaw axes act in the opposite sense to the right's for a mirrored pose).
+MIRROR_SIGNS = {"arm": [1, -1, -1, 1, -1], "hand": [1, 1, 1, 1]}
+
+# Canned motions: [time_s, joint values...], within SPEED_LIMITS (the loader checks).
+WAVE_ARM = lambda elbow_roll: [0.0, -1.3, -1.5708, elbow_roll, 0.0]
+CANNED = {
+    # Forearm swings side to side from wave_start (elbow roll), three times.
+    "wave": (["right_arm"], [[0.0] + WAVE_ARM(-1.6), [0.5] + WAVE_ARM(-1.25),
+                             [1.1] + WAVE_ARM(-1.9), [1.7] + WAVE_ARM(-1.25),
+                             [2.3] + WAVE_ARM(-1.9), [2.8] + WAVE_ARM(-1.6)]),
+    # Bend forward at the torso, hold, come back.
+    "bow": (["torso"], [[0.0, 0.0], [1.0, 0.5], [2.0, 0.5], [3.0, 0.0]]),
+}
+
 
 # ----------------------------------------------------------------------------------------
 # Helpers.
@@ -402,6 +417,7 @@ def write_profile(links, path, variant):
     for side, s in (("left", "L"), ("right", "R")):
         out.append("  %s:" % side)
         out.append("    palm: %sPalm" % s)
+        out.append("    approach: [1, 0, 0]        # fingers point at the object")
         out.append("    fingers:")
         for f in ("1", "2"):
             j = [s + "Finger" + f + "Prox", s + "Finger" + f + "Dist"]
@@ -415,6 +431,16 @@ def write_profile(links, path, variant):
     out.append("speed_limits:                # per chain: joint velocity (rad/s, m/s) and acceleration")
     for chain, (vel, acc) in SPEED_LIMITS.items():
         out.append("  %-11s {velocity: %s, acceleration: %s}" % (chain + ":", fmt(vel), fmt(acc)))
+    out.append("mirror_signs:                # joint signs of a posture moved to the other side")
+    for kind, signs in MIRROR_SIGNS.items():
+        out.append("  %-11s %s" % (kind + ":", ylist(signs)))
+    out.append("canned:                      # keyframes: [time_s, joint values...]")
+    for name, (chains, frames) in CANNED.items():
+        out.append("  %s:" % name)
+        out.append("    chains: %s" % ylist_names(chains))
+        out.append("    keyframes:")
+        for frame in frames:
+            out.append("      - %s" % ylist(frame))
     out.append("actuator_kp:")
     for chain, kp in KP.items():
         out.append("  %-11s %s" % (chain + ":", fmt(kp)))
