@@ -129,10 +129,13 @@ class Graspable final : public Condition {
   bool holds(const World& w, const Hypothesis* h) const override {
     const auto box = box_of(w, a_, h);
     if (!box || !w.skills.holder_of(a_).empty()) return false;
+    const PerceivedObject* known = w.percepts.find(a_);
+    const Eigen::Vector3d grasp_point =
+        (h && h->id == a_) || !known ? box->center() : known->grasp_point();
     for (const HandSpec& hand : w.skills.profile().hands) {
       if (side_ != "any" && hand.side != side_) continue;
       const Pose palm = w.skills.frame_pose(hand.palm);
-      if ((palm.position - box->center()).norm() <= kGraspableDistance) return true;
+      if ((palm.position - grasp_point).norm() <= kGraspableDistance) return true;
     }
     return false;
   }

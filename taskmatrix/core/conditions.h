@@ -11,7 +11,7 @@
 //                         (default 0.05 rad or m) of posture P
 //   grasping(A)           A is held by a hand (attached through the skillset)
 //   graspable(A, side)    A is known, not held, and the palm of `side` ("left", "right" or
-//                         "any") is within 3 cm of A's grasp point (its box centre)
+//                         "any") is within 3 cm of A's grasp point (PerceivedObject::grasp_point)
 // An object the perceptual model does not know makes near/above/graspable false.
 #pragma once
 

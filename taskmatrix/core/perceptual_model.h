@@ -21,7 +21,16 @@ struct PerceivedObject {
   Pose pose;         // of the object's frame
   Eigen::AlignedBox3d box;                                      // world-aligned bounding box
   double last_seen = -std::numeric_limits<double>::infinity();  // simulated seconds
-  double confidence = 0;  // in [0, 1]: 1 for ground truth; the sensor's share of rays that hit it
+  double confidence = 0;  // in [0, 1]: 1 for ground truth; for the sensor, its visible share
+  // Named frames the object's model declares: a tool's "grip" (where a hand holds it) and
+  // "tip" (its working end).
+  std::map<std::string, Pose, std::less<>> frames;
+
+  // Where a hand grasps it: the "grip" frame's position if it has one, else the box centre.
+  Eigen::Vector3d grasp_point() const {
+    const auto grip = frames.find("grip");
+    return grip != frames.end() ? grip->second.position : box.center();
+  }
 };
 
 class PerceptualModel {

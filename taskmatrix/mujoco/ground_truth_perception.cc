@@ -88,34 +88,62 @@ Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool s
   return box;
 }
 
-std::vector<core::PerceivedObject> scene_objects(const MujocoSkillset& skills, double time) {
+std::vector<SceneThing> scene_things(const MujocoSkillset& skills) {
   const mjModel* m = skills.model();
-  const mjData* d = skills.sim_data();
   const Scene& scene = skills.scene();
-  std::vector<core::PerceivedObject> out;
-  auto add = [&](std::string id, std::string type, int body) {
-    core::PerceivedObject o;
-    o.id = std::move(id);
-    o.type = std::move(type);
-    o.pose = body_pose(d, body);
-    o.box = o.type == "surface" ? surface_box(m, d, body) : body_box(m, d, body, true);
-    o.last_seen = time;
-    o.confidence = 1.0;
-    if (!o.box.isEmpty()) out.push_back(std::move(o));
-  };
+  std::vector<SceneThing> out;
+  auto body_id = [&](const std::string& name) { return mj_name2id(m, mjOBJ_BODY, name.c_str()); };
   for (const auto& [name, spec] : scene.environment().objects) {
     for (const std::string& b : spec.bodies) {
-      const int id = mj_name2id(m, mjOBJ_BODY, b.c_str());
-      add(spec.bodies.size() == 1 ? name : b, type_name(spec.kind), id);
+      SceneThing t;
+      t.id = spec.bodies.size() == 1 ? name : b;
+      t.type = type_name(spec.kind);
+      t.body = body_id(b);
+      t.subtree = spec.kind != core::ObjectKind::kSurface;
+      if (!spec.grip_site.empty()) t.grip_site = mj_name2id(m, mjOBJ_SITE, spec.grip_site.c_str());
+      if (!spec.tip_site.empty()) t.tip_site = mj_name2id(m, mjOBJ_SITE, spec.tip_site.c_str());
+      out.push_back(std::move(t));
     }
   }
   if (!scene.environment().visitor.body.empty()) {
-    add("visitor", "humanoid", mj_name2id(m, mjOBJ_BODY, scene.environment().visitor.body.c_str()));
+    out.push_back({"visitor", "humanoid", body_id(scene.environment().visitor.body), true});
   }
   const std::vector<ObstacleSlot>& slots = scene.obstacle_slots();
   for (size_t s = 0; s < slots.size(); ++s) {
     if (!skills.obstacle_active(static_cast<int>(s))) continue;
-    add("obstacle_" + std::to_string(s), "obstacle", slots[s].body);
+    SceneThing t{"obstacle_" + std::to_string(s), "obstacle", slots[s].body, true};
+    t.obstacle_slot = static_cast<int>(s);
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+std::optional<core::PerceivedObject> perceive(const MujocoSkillset& skills, const SceneThing& thing,
+                                              double time) {
+  const mjModel* m = skills.model();
+  const mjData* d = skills.sim_data();
+  core::PerceivedObject o;
+  o.id = thing.id;
+  o.type = thing.type;
+  o.pose = body_pose(d, thing.body);
+  o.box = thing.type == "surface" ? surface_box(m, d, thing.body)
+                                  : body_box(m, d, thing.body, thing.subtree);
+  if (o.box.isEmpty()) return std::nullopt;
+  o.last_seen = time;
+  o.confidence = 1.0;
+  if (thing.grip_site >= 0) {
+    o.frames["grip"] = frame_pose(d, FrameRef{FrameRef::Kind::kSite, thing.grip_site});
+  }
+  if (thing.tip_site >= 0) {
+    o.frames["tip"] = frame_pose(d, FrameRef{FrameRef::Kind::kSite, thing.tip_site});
+  }
+  return o;
+}
+
+std::vector<core::PerceivedObject> scene_objects(const MujocoSkillset& skills, double time) {
+  std::vector<core::PerceivedObject> out;
+  for (const SceneThing& t : scene_things(skills)) {
+    if (auto o = perceive(skills, t, time)) out.push_back(std::move(*o));
   }
   return out;
 }

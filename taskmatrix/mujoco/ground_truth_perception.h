@@ -2,6 +2,10 @@
 // and the visitor, with exact poses and bounding boxes from the simulation, confidence 1.
 #pragma once
 
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "taskmatrix/core/perceptual_model.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 
@@ -25,6 +29,22 @@ class GroundTruthPerception final : public core::Perception {
  private:
   const MujocoSkillset& skills_;
 };
+
+// A perceivable thing of the scene: its id and type, and the body it is (with its subtree,
+// except for surfaces, which are their body's own geoms).
+struct SceneThing {
+  std::string id, type;
+  int body = -1;
+  bool subtree = true;
+  int grip_site = -1, tip_site = -1;  // tools
+  int obstacle_slot = -1;             // obstacles
+};
+// Every perceivable thing: task objects, surfaces, debris, the visitor, active obstacles.
+std::vector<SceneThing> scene_things(const MujocoSkillset& skills);
+// What exact perception of `thing` in the simulation now gives (confidence 1, seen at
+// `time`); nullopt if it has no visible geom.
+std::optional<core::PerceivedObject> perceive(const MujocoSkillset& skills, const SceneThing& thing,
+                                              double time);
 
 // Every perceivable thing of the scene as it is now (what the sensor may recognise).
 std::vector<core::PerceivedObject> scene_objects(const MujocoSkillset& skills, double time);

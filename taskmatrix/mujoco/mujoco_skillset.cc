@@ -69,11 +69,62 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
 void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
   worker_.apply_layout(layout);
   obstacle_count_ = static_cast<int>(layout.obstacles.size());
+  forget_obstacles();
   mj_forward(worker_.model(), worker_.data());
+}
+
+void MujocoSkillset::set_obstacles_need_perception(bool need) {
+  obstacles_need_perception_ = need;
+  forget_obstacles();
+}
+
+void MujocoSkillset::forget_obstacles() {
+  obstacle_perceived_.assign(scene_->obstacle_slots().size(), 0);
+}
+
+void MujocoSkillset::mark_obstacle_perceived(int slot) {
+  if (slot < 0 || slot >= static_cast<int>(obstacle_perceived_.size())) {
+    throw std::invalid_argument("no obstacle slot " + std::to_string(slot));
+  }
+  obstacle_perceived_[slot] = 1;
+}
+
+bool MujocoSkillset::obstacle_known(int slot) const {
+  return obstacle_active(slot) && (!obstacles_need_perception_ || obstacle_perceived_[slot]);
+}
+
+MujocoSkillset::BeliefScope::BeliefScope(MujocoSkillset& s) : s_(s) {
+  if (s_.belief_depth_++ > 0 || !s_.obstacles_need_perception_) return;
+  mjModel* m = s_.worker_.model();
+  const std::vector<ObstacleSlot>& slots = s_.scene_->obstacle_slots();
+  s_.hidden_bits_.clear();
+  for (int slot = 0; slot < s_.obstacle_count_; ++slot) {
+    for (int g : slots[slot].geoms) {
+      s_.hidden_bits_.emplace_back(m->geom_contype[g], m->geom_conaffinity[g]);
+      if (s_.obstacle_perceived_[slot]) continue;
+      m->geom_contype[g] = 0;
+      m->geom_conaffinity[g] = 0;
+    }
+  }
+}
+
+MujocoSkillset::BeliefScope::~BeliefScope() {
+  if (--s_.belief_depth_ > 0 || !s_.obstacles_need_perception_) return;
+  mjModel* m = s_.worker_.model();
+  const std::vector<ObstacleSlot>& slots = s_.scene_->obstacle_slots();
+  size_t k = 0;
+  for (int slot = 0; slot < s_.obstacle_count_; ++slot) {
+    for (int g : slots[slot].geoms) {
+      m->geom_contype[g] = s_.hidden_bits_[k].first;
+      m->geom_conaffinity[g] = s_.hidden_bits_[k].second;
+      ++k;
+    }
+  }
 }
 
 void MujocoSkillset::reset() {
   worker_.reset_to_start();
+  forget_obstacles();
   attachments_.clear();
   attachment_names_.clear();
   attachment_sides_.clear();
@@ -242,6 +293,7 @@ core::IkResult MujocoSkillset::solve_ik(const std::vector<std::string>& chain_na
     r.reason = e.what();
     return r;
   }
+  const BeliefScope belief(*this);
   sync_query();
   return mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints,
                           frame_name(*scene_, frame), target, options, attachments_);
@@ -252,6 +304,7 @@ bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
   const std::vector<int> joints = joints_of(chain_names);
   check_values(chain_names, joints, values, "configuration");
   if (!within_limits(joints, values)) return false;
+  const BeliefScope belief(*this);
   sync_query();
   ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
   return !checker.in_collision(values.data());
@@ -264,6 +317,7 @@ double MujocoSkillset::clearance(const std::vector<std::string>& chain_names,
   if (!(std::isfinite(max_distance_m) && max_distance_m > 0)) {
     throw std::invalid_argument("clearance cap must be a positive number of metres");
   }
+  const BeliefScope belief(*this);
   sync_query();
   ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
   return checker.distance(values.data(), max_distance_m);
@@ -274,6 +328,7 @@ core::PlanResult MujocoSkillset::plan_to_configuration(const std::vector<std::st
                                                        const core::PlanOptions& options) {
   std::vector<int> joints;
   if (auto bad = plan_joints(chain_names, joints)) return *bad;
+  const BeliefScope belief(*this);
   sync_query();
   MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
   return planner.plan({goal}, options);
@@ -287,6 +342,7 @@ core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& c
   std::vector<int> joints;
   if (auto bad = plan_joints(chain_names, joints)) return *bad;
   if (targets.empty()) return plan_failure(core::PlanStatus::kInvalidInput, "no target poses");
+  const BeliefScope belief(*this);
   core::PlanResult total;
   total.status = core::PlanStatus::kIkFailure;
   std::string ik_reasons;
@@ -340,6 +396,7 @@ core::PlanResult MujocoSkillset::plan_to_region(const std::vector<std::string>& 
     return plan_failure(core::PlanStatus::kInvalidInput,
                         "a goal region needs a sampler and positive draw and goal counts");
   }
+  const BeliefScope belief(*this);
   sync_query();
   std::vector<std::vector<double>> goals;
   {
@@ -487,7 +544,7 @@ std::vector<core::Collision> MujocoSkillset::collisions(
     if (!moved[b1] && !moved[b2]) continue;
     if (!counts_as_robot_collision(*scene_, m, c, attachments_)) continue;
     const int mine = moved[b1] ? b1 : b2, other = moved[b1] ? b2 : b1;
-    out.push_back({part_name(mine), part_name(other), -c.dist});
+    out.push_back({part_name(mine), name_of_body(other), -c.dist});
   }
   return out;
 }
@@ -570,6 +627,10 @@ std::string MujocoSkillset::name_of_body(int body) const {
         return spec.bodies.size() == 1 ? name : b;
       }
     }
+  }
+  const std::vector<ObstacleSlot>& slots = scene_->obstacle_slots();
+  for (size_t s = 0; s < slots.size(); ++s) {
+    if (slots[s].body == body) return "obstacle_" + std::to_string(s);
   }
   return body_name(m, body);
 }

@@ -9,6 +9,12 @@
 // (qfrc_applied = bias forces + M * commanded acceleration + damping * commanded velocity),
 // so tracking error reflects the trajectory and the gains, not gravity. Held objects are
 // moved kinematically with their holder before every substep.
+//
+// What queries know of obstacles: in ground-truth perception every obstacle of the layout;
+// in sensor perception (set_obstacles_need_perception) only the obstacle slots marked
+// perceived. Queries leave the others out (their collision bits are cleared on the worker's
+// model for the duration of the query); the simulation always has every obstacle, so a plan
+// through an unseen one ends in a collision during execution.
 #pragma once
 
 #include <memory>
@@ -37,6 +43,12 @@ class MujocoSkillset final : public core::Skillset {
   void reset();
   // Whether obstacle slot `slot` holds an obstacle of the applied layout.
   bool obstacle_active(int slot) const { return slot >= 0 && slot < obstacle_count_; }
+  // Sensor mode: from now on (and after every reset or layout) queries know an obstacle only
+  // once it is marked perceived. Off by default: queries know every obstacle.
+  void set_obstacles_need_perception(bool need);
+  void mark_obstacle_perceived(int slot);
+  // Whether queries take obstacle slot `slot` into account.
+  bool obstacle_known(int slot) const;
   // Places the chains at `values` at once (and makes that the held target): set-up of a
   // trial's initial state, not motion. Throws std::invalid_argument like command().
   void set_configuration(const std::vector<std::string>& chain_names,
@@ -98,6 +110,18 @@ class MujocoSkillset final : public core::Skillset {
                     const std::vector<double>& values, const char* what) const;
   bool within_limits(const std::vector<int>& joints, const std::vector<double>& values) const;
   void sync_query();
+  // While alive, the worker's model hides the obstacles queries do not know. Reentrant.
+  class BeliefScope {
+   public:
+    explicit BeliefScope(MujocoSkillset& s);
+    ~BeliefScope();
+    BeliefScope(const BeliefScope&) = delete;
+    BeliefScope& operator=(const BeliefScope&) = delete;
+
+   private:
+    MujocoSkillset& s_;
+  };
+  void forget_obstacles();
   int object_body(const std::string& object) const;  // -1 if not an object's body
   // The symbolic object name of a body's object, or the body's name.
   std::string name_of_body(int body) const;
@@ -115,6 +139,10 @@ class MujocoSkillset final : public core::Skillset {
   std::vector<std::string> attachment_names_;
   std::vector<std::string> attachment_sides_;
   int obstacle_count_ = 0;
+  bool obstacles_need_perception_ = false;
+  std::vector<char> obstacle_perceived_;  // per slot
+  int belief_depth_ = 0;
+  std::vector<std::pair<int, int>> hidden_bits_;  // contype, conaffinity of hidden slot geoms
   double period_ = 0.01;
   int substeps_ = 5;
   double period_start_ = 0;
