@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "taskmatrix/core/trajectory_follower.h"
+
 namespace taskmatrix::core {
 
 const char* to_string(ExecutionStatus status) {
@@ -71,89 +73,27 @@ Trajectory Skillset::time_parameterize(const std::vector<std::string>& chain_nam
   return Trajectory(std::move(waypoints), vmax, amax);
 }
 
-namespace {
-
-std::vector<double> to_std(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
-
-double max_abs_difference(const std::vector<double>& a, const Eigen::VectorXd& b) {
-  double e = 0;
-  for (size_t i = 0; i < a.size(); ++i)
-    e = std::max(e, std::abs(a[i] - b[static_cast<Eigen::Index>(i)]));
-  return e;
-}
-
-}  // namespace
-
 ExecutionReport Skillset::execute(const std::vector<std::string>& chain_names,
                                   const Trajectory& trajectory, const ExecutionOptions& options) {
   ExecutionReport report;
-  size_t n = 0;
+  std::optional<TrajectoryFollower> follower;
   try {
-    n = dof(chain_names);
+    follower.emplace(*this, chain_names, timed(trajectory), options);
   } catch (const std::invalid_argument& e) {
     report.message = e.what();
     return report;
   }
-  if (trajectory.waypoints().empty() ||
-      static_cast<size_t>(trajectory.waypoints().front().size()) != n) {
-    report.message = "the trajectory does not have one value per joint of the chains";
-    return report;
-  }
   const double t0 = time();
-  const double period = control_period();
-  const double duration = trajectory.duration();
-  auto fail_on_step = [&](const StepReport& step) {
-    report.duration_s = time() - t0;
-    report.status = ExecutionStatus::kSimulationUnstable;
-    report.message = step.message;
-    return report;
-  };
-  auto check_collision = [&]() {
-    const std::vector<Collision> hits = collisions(chain_names);
-    if (hits.empty()) return false;
-    if (!report.collision) report.collision = hits.front();
-    return options.stop_on_collision;
-  };
-  auto stop_for_collision = [&]() {
-    command(chain_names, configuration(chain_names));  // hold where it is
-    report.duration_s = time() - t0;
-    report.status = ExecutionStatus::kCollision;
-    report.message =
-        "collision of " + report.collision->robot_part + " with " + report.collision->other;
-    return report;
-  };
-
-  const int steps = static_cast<int>(std::ceil(duration / period - 1e-9));
-  for (int k = 1; k <= steps; ++k) {
-    const TrajectorySample s = trajectory.sample(std::min(k * period, duration));
-    command(chain_names, to_std(s.position), to_std(s.velocity), to_std(s.acceleration));
+  while (true) {
+    if (std::optional<ExecutionReport> done = follower->step()) return *done;
     const StepReport step = advance();
-    if (step.unstable) return fail_on_step(step);
-    report.max_tracking_error = std::max(
-        report.max_tracking_error, max_abs_difference(configuration(chain_names), s.position));
-    if (check_collision()) return stop_for_collision();
+    if (step.unstable) {
+      report.duration_s = time() - t0;
+      report.status = ExecutionStatus::kSimulationUnstable;
+      report.message = step.message;
+      return report;
+    }
   }
-  const Eigen::VectorXd& goal = trajectory.waypoints().back();
-  command(chain_names, to_std(goal));
-  report.final_error = max_abs_difference(configuration(chain_names), goal);
-  const double settle_until = time() + options.settle_time_s;
-  while (report.final_error > options.position_tolerance && time() < settle_until - 1e-12) {
-    const StepReport step = advance();
-    if (step.unstable) return fail_on_step(step);
-    if (check_collision()) return stop_for_collision();
-    report.final_error = max_abs_difference(configuration(chain_names), goal);
-  }
-  report.duration_s = time() - t0;
-  if (report.final_error > options.position_tolerance) {
-    report.status = ExecutionStatus::kTrackingError;
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "%.4f from the goal after %.2f s of settling",
-                  report.final_error, options.settle_time_s);
-    report.message = buf;
-  } else {
-    report.status = report.collision ? ExecutionStatus::kCollision : ExecutionStatus::kCompleted;
-  }
-  return report;
 }
 
 }  // namespace taskmatrix::core

@@ -1,0 +1,124 @@
+#include "taskmatrix/core/trajectory_follower.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace taskmatrix::core {
+
+namespace {
+
+std::vector<double> to_std(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+double max_abs_difference(const std::vector<double>& a, const Eigen::VectorXd& b) {
+  double e = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    e = std::max(e, std::abs(a[i] - b[static_cast<Eigen::Index>(i)]));
+  return e;
+}
+
+}  // namespace
+
+TimedMotion timed(const Trajectory& trajectory) {
+  TimedMotion m;
+  m.duration = trajectory.duration();
+  m.sample = [trajectory](double t) { return trajectory.sample(t); };
+  m.goal = trajectory.waypoints().back();
+  return m;
+}
+
+TimedMotion piecewise_linear(const std::vector<double>& times,
+                             const std::vector<Eigen::VectorXd>& positions) {
+  if (times.size() < 2 || times.size() != positions.size()) {
+    throw std::invalid_argument("a piecewise-linear motion needs two or more keyframes");
+  }
+  for (size_t k = 1; k < times.size(); ++k) {
+    if (!(times[k] > times[k - 1]) || positions[k].size() != positions[0].size()) {
+      throw std::invalid_argument("keyframe times must increase and rows must have one size");
+    }
+  }
+  TimedMotion m;
+  m.duration = times.back() - times.front();
+  m.goal = positions.back();
+  m.sample = [times, positions](double t) {
+    t = std::clamp(t + times.front(), times.front(), times.back());
+    size_t k = 1;
+    while (k + 1 < times.size() && t > times[k]) ++k;
+    const double dt = times[k] - times[k - 1];
+    const double s = (t - times[k - 1]) / dt;
+    TrajectorySample out;
+    out.position = positions[k - 1] + s * (positions[k] - positions[k - 1]);
+    out.velocity = (positions[k] - positions[k - 1]) / dt;
+    out.acceleration = Eigen::VectorXd::Zero(out.position.size());
+    if (t >= times.back()) out.velocity.setZero();
+    return out;
+  };
+  return m;
+}
+
+TrajectoryFollower::TrajectoryFollower(Skillset& skills, std::vector<std::string> chains,
+                                       TimedMotion motion, ExecutionOptions options)
+    : skills_(skills),
+      chains_(std::move(chains)),
+      motion_(std::move(motion)),
+      options_(options),
+      t0_(skills.time()) {
+  if (static_cast<size_t>(motion_.goal.size()) != skills_.dof(chains_)) {
+    throw std::invalid_argument("the trajectory does not have one value per joint of the chains");
+  }
+  steps_ = static_cast<int>(std::ceil(motion_.duration / skills_.control_period() - 1e-9));
+}
+
+ExecutionReport TrajectoryFollower::finish(ExecutionStatus status, std::string message) {
+  report_.status = status;
+  report_.message = std::move(message);
+  report_.duration_s = skills_.time() - t0_;
+  return report_;
+}
+
+std::optional<ExecutionReport> TrajectoryFollower::step() {
+  const double period = skills_.control_period();
+  if (k_ > 0) {
+    const std::vector<double> q = skills_.configuration(chains_);
+    if (k_ <= steps_ && settle_until_ < 0) {
+      report_.max_tracking_error =
+          std::max(report_.max_tracking_error, max_abs_difference(q, last_commanded_));
+    }
+    const std::vector<Collision> hits = skills_.collisions(chains_);
+    if (!hits.empty()) {
+      if (!report_.collision) report_.collision = hits.front();
+      if (options_.stop_on_collision) {
+        skills_.command(chains_, q);  // hold where it is
+        return finish(ExecutionStatus::kCollision, "collision of " + report_.collision->robot_part +
+                                                       " with " + report_.collision->other);
+      }
+    }
+  }
+  if (k_ < steps_) {
+    ++k_;
+    const TrajectorySample s = motion_.sample(std::min(k_ * period, motion_.duration));
+    skills_.command(chains_, to_std(s.position), to_std(s.velocity), to_std(s.acceleration));
+    last_commanded_ = s.position;
+    return std::nullopt;
+  }
+  if (settle_until_ < 0) {
+    skills_.command(chains_, to_std(motion_.goal));
+    settle_until_ = skills_.time() + options_.settle_time_s;
+    k_ = steps_ + 1;
+  }
+  report_.final_error = max_abs_difference(skills_.configuration(chains_), motion_.goal);
+  if (report_.final_error <= options_.position_tolerance) {
+    return finish(report_.collision ? ExecutionStatus::kCollision : ExecutionStatus::kCompleted,
+                  report_.collision ? "touched " + report_.collision->other : "");
+  }
+  if (skills_.time() >= settle_until_ - 1e-12) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%.4f from the goal after %.2f s of settling",
+                  report_.final_error, options_.settle_time_s);
+    return finish(ExecutionStatus::kTrackingError, buf);
+  }
+  return std::nullopt;
+}
+
+}  // namespace taskmatrix::core
