@@ -13,8 +13,10 @@
 #include "harness/scenes_job.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/obstacle_layout.h"
+#include "taskmatrix/mujoco/motion_planner.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/mujoco/scene.h"
+#include "taskmatrix/programs/primitives.h"
 
 namespace {
 
@@ -86,10 +88,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   std::string list_what;
-  CLI::App* list = app.add_subcommand("list", "List robots or environments, one name per line");
-  list->add_option("what", list_what, "robots | environments")
+  CLI::App* list = app.add_subcommand(
+      "list", "List robots, environments, task programs or planners, one name per line");
+  list->add_option("what", list_what, "robots | environments | programs | planners")
       ->required()
-      ->check(CLI::IsMember({"robots", "environments"}));
+      ->check(CLI::IsMember({"robots", "environments", "programs", "planners"}));
 
   RenderOptions render_options;
   CLI::App* render =
@@ -146,6 +149,15 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*list && (list_what == "programs" || list_what == "planners")) {
+      taskmatrix::core::ProgramRegistry registry;
+      taskmatrix::programs::register_primitives(registry);
+      for (const std::string& name :
+           list_what == "programs" ? registry.names() : taskmatrix::mujoco::planner_names()) {
+        std::cout << name << "\n";
+      }
+      return 0;
+    }
     const ModelCatalog catalog = ModelCatalog::from_environment();
     if (*list) {
       for (const std::string& name :

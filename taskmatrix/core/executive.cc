@@ -25,16 +25,12 @@ class Executive::Context final : public ProgramContext {
   const PerceptualModel& percepts() const override { return e_.percepts_; }
   double time() const override { return e_.skills_.time(); }
   int self() const override { return id_; }
-  void emit(MessageType type, const std::string& reason) override { e_.emit(id_, type, reason); }
-  const PlanOptions& plan_options() const override { return e_.options_.plan; }
-  std::uint32_t next_seed() override {
-    // splitmix64 of the run seed and a counter: distinct, reproducible, never 0.
-    std::uint64_t z = (static_cast<std::uint64_t>(e_.options_.seed) << 32) + ++e_.seed_counter_;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return static_cast<std::uint32_t>(z % 0xfffffffeULL) + 1;
+  void emit(MessageType type, const std::string& reason,
+            std::shared_ptr<const PlanResult> plan) override {
+    e_.emit(id_, type, reason, std::move(plan));
   }
+  const PlanOptions& plan_options() const override { return e_.options_.plan; }
+  std::uint32_t next_seed() override { return e_.next_seed(); }
   int start_child(const std::string& program, const RawParams& params) override {
     std::unique_ptr<TaskProgram> p = e_.registry_.instantiate(program, params);
     return e_.launch(std::move(p), program, id_);
@@ -76,9 +72,19 @@ int Executive::start(std::unique_ptr<TaskProgram> program, const std::string& na
   return launch(std::move(program), name, -1);
 }
 
-void Executive::emit(int id, MessageType type, const std::string& reason) {
+std::uint32_t Executive::next_seed() {
+  // splitmix64 of the run seed and a counter: distinct, reproducible, never 0.
+  std::uint64_t z = (static_cast<std::uint64_t>(options_.seed) << 32) + ++seed_counter_;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return static_cast<std::uint32_t>(z % 0xfffffffeULL) + 1;
+}
+
+void Executive::emit(int id, MessageType type, const std::string& reason,
+                     std::shared_ptr<const PlanResult> plan) {
   Instance& inst = *instances_.at(id);
-  Message m{skills_.time(), id, inst.name, type, reason};
+  Message m{skills_.time(), id, inst.name, type, reason, std::move(plan)};
   log_.push_back(m);
   if (inst.parent >= 0) {
     const auto parent = instances_.find(inst.parent);
@@ -101,7 +107,10 @@ int Executive::launch(std::unique_ptr<TaskProgram> program, const std::string& n
 
   std::vector<std::string> chains;
   try {
-    chains = self.program->chains(skills_);
+    const ClaimContext claim{skills_, percepts_,
+                             [this](const std::string& c) { return chain_holder_.count(c) > 0; },
+                             next_seed()};
+    chains = self.program->claim(claim);
   } catch (const std::invalid_argument& e) {
     finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
     return id;

@@ -63,7 +63,9 @@ class Executive {
   class Context;
   struct Instance;
   int launch(std::unique_ptr<TaskProgram> program, const std::string& name, int parent);
-  void emit(int id, MessageType type, const std::string& reason);
+  void emit(int id, MessageType type, const std::string& reason,
+            std::shared_ptr<const PlanResult> plan = nullptr);
+  std::uint32_t next_seed();
   void finish(int id, MessageType type, const std::string& reason);
 
   Skillset& skills_;

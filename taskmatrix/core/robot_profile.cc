@@ -188,6 +188,14 @@ void validate_profile_structure(const RobotProfile& p) {
     if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-6) {
       throw InputError(file, key + ".approach", "must be a unit vector");
     }
+    const double closing_norm = std::sqrt(
+        h.closing[0] * h.closing[0] + h.closing[1] * h.closing[1] + h.closing[2] * h.closing[2]);
+    const double dot =
+        h.closing[0] * h.approach[0] + h.closing[1] * h.approach[1] + h.closing[2] * h.approach[2];
+    if (!std::isfinite(closing_norm) || std::abs(closing_norm - 1.0) > 1e-6 ||
+        std::abs(dot) > 1e-6) {
+      throw InputError(file, key + ".closing", "must be a unit vector perpendicular to approach");
+    }
     const ChainSpec* hand_chain = p.find_chain(h.side + "_hand");
     for (size_t f = 0; f < h.fingers.size(); ++f) {
       const FingerSpec& finger = h.fingers[f];

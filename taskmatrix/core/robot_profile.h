@@ -29,6 +29,9 @@ struct HandSpec {
   // Unit axis, in the palm frame, pointing from the palm towards a grasped object: reach
   // brings the hand in along it.
   std::array<double, 3> approach{0, 0, 1};
+  // Unit axis, in the palm frame and perpendicular to `approach`, along which the fingers
+  // close on an object: reach prefers hand poses that keep it horizontal for upright objects.
+  std::array<double, 3> closing{1, 0, 0};
   std::vector<FingerSpec> fingers;
 };
 

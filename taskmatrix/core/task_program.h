@@ -71,6 +71,8 @@ struct Message {
   std::string program;  // its program type, e.g. "reach"
   MessageType type = MessageType::kStarted;
   std::string reason;  // for failures: "ik_failure: ...", "collision: ...", ...
+  // For kPlanningEnded: the plan's result (status, times, work counts, path).
+  std::shared_ptr<const PlanResult> plan;
 };
 
 enum class ProgramState { kRunning, kCompleted, kFailed };
@@ -86,7 +88,8 @@ class ProgramContext {
   World world() { return World{skills(), percepts()}; }
   virtual double time() const = 0;
   virtual int self() const = 0;  // this program's instance id
-  virtual void emit(MessageType type, const std::string& reason = "") = 0;
+  virtual void emit(MessageType type, const std::string& reason = "",
+                    std::shared_ptr<const PlanResult> plan = nullptr) = 0;
   // Planner settings and a seed source for this run.
   virtual const PlanOptions& plan_options() const = 0;
   virtual std::uint32_t next_seed() = 0;
@@ -98,11 +101,23 @@ class ProgramContext {
   virtual std::vector<Message> take_inbox() = 0;
 };
 
+// What a program may consider when it chooses its chains (before it starts).
+struct ClaimContext {
+  const Skillset& skills;
+  const PerceptualModel& percepts;
+  std::function<bool(const std::string& chain)> busy;  // held by a running program
+  std::uint32_t seed;                                  // for a random choice
+};
+
 class TaskProgram {
  public:
   virtual ~TaskProgram() = default;
   // Chains this program commands; the executive holds them for it while it runs.
   virtual std::vector<std::string> chains(const Skillset& skills) const = 0;
+  // Called by the executive instead of chains() when the program is launched: a program with
+  // a choice (which arm, which side to mirror a posture to) makes it here, may record it, and
+  // returns its chains. Defaults to chains().
+  virtual std::vector<std::string> claim(const ClaimContext& ctx) { return chains(ctx.skills); }
   // May be null. Checked when the program starts; false fails it with "precondition_false".
   virtual ConditionPtr precondition() const { return nullptr; }
   virtual void start(ProgramContext& ctx) = 0;

@@ -98,7 +98,7 @@ core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file)
   }
 
   for (const auto& [side, node] : root.required("hands").entries()) {
-    node.expect_keys({"palm", "approach", "fingers"});
+    node.expect_keys({"palm", "approach", "closing", "fingers"});
     core::HandSpec hand;
     hand.side = side;
     hand.palm = node.required("palm").as_string();
@@ -106,6 +106,10 @@ core::RobotProfile load_robot_profile(const std::filesystem::path& profile_file)
     const std::vector<double> axis = approach.as_doubles();
     if (axis.size() != 3) approach.fail("must be a unit vector [x, y, z] in the palm frame");
     hand.approach = {axis[0], axis[1], axis[2]};
+    const YamlNode closing = node.required("closing");
+    const std::vector<double> closing_axis = closing.as_doubles();
+    if (closing_axis.size() != 3) closing.fail("must be a unit vector [x, y, z] in the palm frame");
+    hand.closing = {closing_axis[0], closing_axis[1], closing_axis[2]};
     for (const YamlNode& f : node.required("fingers").items()) {
       f.expect_keys({"joints", "bodies"});
       hand.fingers.push_back(

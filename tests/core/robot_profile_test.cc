@@ -21,8 +21,8 @@ RobotProfile valid_profile() {
               {"right_arm", {"ra1", "ra2"}, "rp"},
               {"left_hand", {"lf1", "lf2"}, ""},
               {"right_hand", {"rf1", "rf2"}, ""}};
-  p.hands = {{"left", "lp", {0, 0, 1}, {{{"lf1", "lf2"}, {"lf1b", "lf2b"}}}},
-             {"right", "rp", {0, 0, 1}, {{{"rf1", "rf2"}, {"rf1b", "rf2b"}}}}};
+  p.hands = {{"left", "lp", {0, 0, 1}, {1, 0, 0}, {{{"lf1", "lf2"}, {"lf1b", "lf2b"}}}},
+             {"right", "rp", {0, 0, 1}, {1, 0, 0}, {{{"rf1", "rf2"}, {"rf1b", "rf2b"}}}}};
   p.mirror_signs = {{"arm", {1, -1}}, {"hand", {1, 1}}};
   p.canned["wave"] = {{"left_arm"}, {{0.0, {0, 0}}, {1.0, {0.5, -0.5}}}};
   p.postures = {{"rest", {{"left_arm", {0, 0}}}},
@@ -47,6 +47,11 @@ TEST(RobotProfile, HandsNeedAUnitApproachAxis) {
   RobotProfile p = valid_profile();
   p.hands[1].approach = {0, 0, 2};
   EXPECT_NE(error_of(p).find("hands.right.approach: must be a unit vector"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.hands[0].closing = {0, 0, 1};
+  EXPECT_NE(error_of(p).find("hands.left.closing: must be a unit vector perpendicular"),
+            std::string::npos)
       << error_of(p);
 }
 

@@ -418,6 +418,7 @@ def write_profile(links, path, variant):
         out.append("  %s:" % side)
         out.append("    palm: %sPalm" % s)
         out.append("    approach: [1, 0, 0]        # fingers point at the object")
+        out.append("    closing: [0, 1, 0]         # the fingers close along the palm's y axis")
         out.append("    fingers:")
         for f in ("1", "2"):
             j = [s + "Finger" + f + "Prox", s + "Finger" + f + "Dist"]

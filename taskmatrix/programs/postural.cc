@@ -1,0 +1,86 @@
+// postural: collision-free motion of one or more chains to a named posture of the profile
+// (paper: "postural"). A posture of a single limb (e.g. wave_start of the right arm) can be
+// taken by either limb: with side "any" the program mirrors it to the other limb when the
+// named one is busy or the other is already there, and otherwise picks one at random (from
+// the run's seed sequence, so a run is reproducible).
+#include "taskmatrix/programs/primitives.h"
+#include "taskmatrix/programs/program_support.h"
+
+namespace taskmatrix::programs {
+
+namespace {
+
+constexpr double kAlreadyThere = 0.02;  // rad or m
+
+class Postural final : public core::TaskProgram {
+ public:
+  explicit Postural(const core::Params& p)
+      : posture_(p.text("posture")), only_(p.list("chains")), side_(p.text("side")) {}
+
+  std::vector<std::string> chains(const core::Skillset& skills) const override {
+    return target(skills).chains;
+  }
+  std::vector<std::string> claim(const core::ClaimContext& ctx) override {
+    const ChainValues named = posture_values(ctx.skills, posture_, only_);
+    choice_ = choose_limb(ctx, named, side_);
+    return target(ctx.skills).chains;
+  }
+
+  void start(core::ProgramContext& ctx) override {
+    const ChainValues goal = target(ctx.skills());
+    if (max_difference(ctx.skills().configuration(goal.chains), goal.values) <= kAlreadyThere) {
+      done_ = true;
+      return;
+    }
+    failure_ = motion_.plan_to_configuration(ctx, goal.chains, goal.values);
+  }
+
+  core::ProgramState step(core::ProgramContext&) override {
+    if (!failure_.empty()) return fail(failure_);
+    if (done_) return core::ProgramState::kCompleted;
+    const std::optional<std::string> result = motion_.step();
+    if (!result) return core::ProgramState::kRunning;
+    if (!result->empty()) return fail(*result);
+    return core::ProgramState::kCompleted;
+  }
+
+  // Which limb it chose and why ("named", "side", "busy", "already_there", "random").
+  const LimbChoice& choice() const { return choice_; }
+
+ private:
+  ChainValues target(const core::Skillset& skills) const {
+    const ChainValues named = posture_values(skills, posture_, only_);
+    return choice_.mirror ? mirrored(skills, named) : named;
+  }
+
+  std::string posture_;
+  std::vector<std::string> only_;
+  std::string side_;
+  LimbChoice choice_;
+  MotionStage motion_;
+  std::string failure_;
+  bool done_ = false;
+};
+
+}  // namespace
+
+core::ProgramType postural_program() {
+  return {"postural",
+          "collision-free motion of chains to a named posture of the robot's profile",
+          {{"posture", core::ParamType::kString, true, {}, {}, "posture name in the profile"},
+           {"chains",
+            core::ParamType::kStringList,
+            false,
+            std::vector<std::string>{},
+            {},
+            "only these chains of the posture (default: every chain it names)"},
+           {"side",
+            core::ParamType::kString,
+            false,
+            std::string("any"),
+            {"any", "left", "right", "as_named"},
+            "for a single-limb posture: the limb to use; any: the free one, or at random"}},
+          [](const core::Params& p) { return std::make_unique<Postural>(p); }};
+}
+
+}  // namespace taskmatrix::programs

@@ -1,0 +1,28 @@
+// The primitive task programs of the paper (section III-D) that this library provides, and
+// their registration. Each is robot-independent: chains, hands, postures and motions come
+// from the skillset and its profile; objects come from the perceptual model.
+//
+//   reach     object, side        arm to a hand pose from which the object can be grasped
+//   grasp     object, side        each finger segment closes until contact (or the fist)
+//   release   side, object        open the hand to its rest posture, letting go of the object
+//   postural  posture, chains, side   collision-free motion to a named posture
+//   canned    motion, side        a predetermined joint-space motion from the profile
+//
+// Failure reasons start with a status: perception_miss, ik_failure, timeout, invalid_start,
+// invalid_goal, collision, tracking_error, grasp_failed, not_graspable, invalid_input.
+#pragma once
+
+#include "taskmatrix/core/task_program.h"
+
+namespace taskmatrix::programs {
+
+core::ProgramType reach_program();
+core::ProgramType grasp_program();
+core::ProgramType release_program();
+core::ProgramType postural_program();
+core::ProgramType canned_program();
+
+// Adds every program above to `registry`.
+void register_primitives(core::ProgramRegistry& registry);
+
+}  // namespace taskmatrix::programs

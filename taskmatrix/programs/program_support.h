@@ -1,0 +1,89 @@
+// What the primitive programs share: limbs by side, mirroring, and plan-then-follow motion
+// with the planning messages. Robot-independent: everything comes from the skillset and the
+// profile it exposes.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "taskmatrix/core/task_program.h"
+#include "taskmatrix/core/trajectory_follower.h"
+
+namespace taskmatrix::programs {
+
+// The side parameter every limb program takes.
+inline const std::vector<std::string> kSides = {"any", "left", "right"};
+
+std::string arm_of(const std::string& side);   // "left" -> "left_arm"
+std::string hand_of(const std::string& side);  // "left" -> "left_hand"
+
+// The sides ("left", "right") among `sides` whose `chain_of(side)` is free, in order.
+std::vector<std::string> free_sides(const core::ClaimContext& ctx,
+                                    const std::vector<std::string>& sides,
+                                    std::string (*chain_of)(const std::string&));
+
+// The free side whose palm is nearest to `object`'s grasp point (or the first free side if
+// the object is unknown); "left" if no side is free (the executive then refuses the chain).
+std::string nearest_free_side(const core::ClaimContext& ctx, const std::string& object,
+                              std::string (*chain_of)(const std::string&));
+
+// Joint values for named chains, in a fixed chain order.
+struct ChainValues {
+  std::vector<std::string> chains;
+  std::vector<double> values;  // concatenated in `chains` order
+};
+
+// The limb side ("left"/"right") all limb chains of `chains` are on, or "" if they have none
+// or are on both sides.
+std::string single_side(const std::vector<std::string>& chains);
+// The same motion on the other limb: limb chains swapped, joint values times the profile's
+// mirror signs. Chains without a side are kept.
+ChainValues mirrored(const core::Skillset& skills, const ChainValues& values);
+ChainValues posture_values(const core::Skillset& skills, const std::string& posture,
+                           const std::vector<std::string>& only_chains);
+
+// For programs whose target is a single-limb posture or motion: the version to use, given
+// `side` ("any", "left", "right" or "as_named"). With "any": the other limb if the named one
+// is busy (or the reverse), the one already at its first values if one is, else one at random.
+// `first` gives the values to compare with the current configuration.
+struct LimbChoice {
+  bool mirror = false;
+  std::string why;  // "named", "side", "busy", "already_there", "random"
+};
+LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
+                       const std::string& side);
+
+// Largest |a - b| over joints.
+double max_difference(const std::vector<double>& a, const std::vector<double>& b);
+
+// Plans a motion (emitting planning_started and planning_ended with the plan) and follows it
+// one control period per step() call.
+class MotionStage {
+ public:
+  // Each returns "" when following has started, else the failure reason "<status>: <why>".
+  std::string plan_to_configuration(core::ProgramContext& ctx,
+                                    const std::vector<std::string>& chains,
+                                    const std::vector<double>& goal);
+  std::string plan_to_poses(core::ProgramContext& ctx, const std::vector<std::string>& chains,
+                            const std::string& frame, const std::vector<core::Pose>& poses,
+                            const core::IkOptions& ik);
+  // Follows without planning.
+  void follow(core::ProgramContext& ctx, const std::vector<std::string>& chains,
+              core::TimedMotion motion, const core::ExecutionOptions& options = {});
+  // nullopt while moving; "" once completed; else the failure reason.
+  std::optional<std::string> step();
+  const core::PlanResult* last_plan() const { return plan_.get(); }
+
+ private:
+  std::string start_following(core::ProgramContext& ctx, const std::vector<std::string>& chains,
+                              std::shared_ptr<const core::PlanResult> plan);
+  std::shared_ptr<const core::PlanResult> plan_;
+  std::optional<core::TrajectoryFollower> follower_;
+};
+
+// "<status>: <message>" for a failed plan.
+std::string plan_failure_reason(const core::PlanResult& plan);
+
+}  // namespace taskmatrix::programs
