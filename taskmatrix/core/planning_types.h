@@ -18,6 +18,10 @@ struct Pose {
 
 struct IkOptions {
   bool orientation = true;  // full pose, or position only
+  // With orientation: a unit axis of the frame (in the frame's own coordinates) about which
+  // rotation is left free, so the orientation is matched up to a turn about it (a 5-D pose,
+  // e.g. for arms with five joints). Zero: the full orientation.
+  Eigen::Vector3d free_axis = Eigen::Vector3d::Zero();
   double position_tolerance_m = 1e-3;
   double orientation_tolerance_rad = 0.0174533;  // 1 degree
   int max_iterations = 150;                      // per start
@@ -41,6 +45,9 @@ struct PlanOptions {
   unsigned max_iterations = 0;       // > 0: also stop after this many planner iterations
   double simplify_time_s = 0.25;     // bound on simplification; 0 skips it
   double motion_resolution = 0.005;  // fraction of the space's extent between checked states
+  // Distance paths keep from obstacles, except near the start and goals (which may be closer):
+  // room for the execution's tracking error. 0: paths may touch.
+  double clearance_m = 0.01;
   std::uint32_t seed = 1;            // > 0
 };
 

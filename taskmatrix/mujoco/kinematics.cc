@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -95,6 +96,13 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
                   "target pose is not finite or its quaternion is not unit length");
   }
   if (joints.empty()) return finish(core::IkStatus::kInvalidInput, "no joints to solve for");
+  std::optional<Eigen::Vector3d> free_axis;
+  if (o.free_axis.squaredNorm() > 0) {
+    if (!o.free_axis.allFinite() || std::abs(o.free_axis.norm() - 1.0) > 1e-6) {
+      return finish(core::IkStatus::kInvalidInput, "the free axis must be a unit vector");
+    }
+    free_axis = o.free_axis;
+  }
   BodyFrame frame;
   try {
     frame = resolve_frame(scene, d, frame_name, attachments);
@@ -143,7 +151,15 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
       const double point[3] = {now.position.x(), now.position.y(), now.position.z()};
       Eigen::VectorXd err(rows);
       err.head<3>() = target.position - now.position;
-      if (o.orientation) err.tail<3>() = orientation_error(target.orientation, now.orientation);
+      // Rotation about the free axis (in world coordinates now) is not an error.
+      Eigen::Matrix3d keep = Eigen::Matrix3d::Identity();
+      if (free_axis) {
+        const Eigen::Vector3d a = now.orientation * *free_axis;
+        keep -= a * a.transpose();
+      }
+      if (o.orientation) {
+        err.tail<3>() = keep * orientation_error(target.orientation, now.orientation);
+      }
       const double pos_err = err.head<3>().norm();
       const double rot_err = o.orientation ? err.tail<3>().norm() : 0.0;
       if (pos_err + rot_err < best_pos + best_rot) {
@@ -174,6 +190,7 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
           if (o.orientation) jac(3 + r, i) = jacr[r * m->nv + dof[i]];
         }
       }
+      if (o.orientation && free_axis) jac.bottomRows<3>() = keep * jac.bottomRows<3>();
       const Eigen::MatrixXd jjt =
           jac * jac.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(rows, rows);
       Eigen::VectorXd dq = jac.transpose() * jjt.ldlt().solve(err);

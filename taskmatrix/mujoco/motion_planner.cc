@@ -35,6 +35,9 @@ namespace og = ompl::geometric;
 
 namespace {
 
+constexpr double kLimitSlack = 0.02;      // rad or m
+constexpr double kEndpointRadius = 0.25;  // rad or m
+
 using Factory = std::function<ob::PlannerPtr(const ob::SpaceInformationPtr&)>;
 
 const std::map<std::string, Factory>& factories() {
@@ -109,15 +112,19 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     return fail(core::PlanStatus::kInvalidInput, "unknown planner '" + o.planner.name + "'");
   if (n == 0 || goals.empty()) return fail(core::PlanStatus::kInvalidInput, "no joints or no goal");
   if (!(o.time_limit_s > 0) || !(o.motion_resolution > 0 && o.motion_resolution < 1) ||
-      o.seed == 0 || !(o.simplify_time_s >= 0)) {
+      o.seed == 0 || !(o.simplify_time_s >= 0) || !(o.clearance_m >= 0 && o.clearance_m < 1)) {
     return fail(core::PlanStatus::kInvalidInput,
-                "time limit, resolution and seed must be positive");
+                "time limit, resolution and seed must be positive, clearance in [0, 1) m");
   }
   std::vector<double> lo(n), hi(n), start(n);
   for (size_t i = 0; i < n; ++i) {
     lo[i] = m->jnt_range[2 * joints_[i]];
     hi[i] = m->jnt_range[2 * joints_[i] + 1];
     start[i] = d->qpos[m->jnt_qposadr[joints_[i]]];
+    // Simulated joints rest slightly past a limit they are held at (soft limit constraints):
+    // plan from the limit. Beyond kLimitSlack the start is invalid.
+    if (start[i] < lo[i] && start[i] >= lo[i] - kLimitSlack) start[i] = lo[i];
+    if (start[i] > hi[i] && start[i] <= hi[i] + kLimitSlack) start[i] = hi[i];
   }
   for (const auto& g : goals) {
     if (g.size() != n)
@@ -144,6 +151,8 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   ompl::RNG::setSeed(o.seed);
 
   const std::vector<double> saved(d->qpos, d->qpos + m->nq);
+  for (size_t i = 0; i < n; ++i) d->qpos[m->jnt_qposadr[joints_[i]]] = start[i];
+  mj_kinematics(m, d);
   ValidityChecker checker(scene_, m, d, joints_, attachments_);
   auto restore = [&] {
     std::copy(saved.begin(), saved.end(), d->qpos);
@@ -156,12 +165,21 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     }
     return true;
   };
-  if (!within(start) || checker.static_collision() || checker.in_collision(start.data())) {
+  for (size_t i = 0; i < n; ++i) {
+    if (start[i] >= lo[i] - 1e-9 && start[i] <= hi[i] + 1e-9) continue;
+    restore();
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "joint '%s' starts at %.6g, outside its limits [%.6g, %.6g]",
+                  mj_id2name(m, mjOBJ_JOINT, joints_[i]), start[i], lo[i], hi[i]);
+    return fail(core::PlanStatus::kInvalidStart, buf);
+  }
+  if (checker.static_collision() || checker.in_collision(start.data())) {
     restore();
     return fail(core::PlanStatus::kInvalidStart,
-                checker.static_collision()
-                    ? "the robot is in collision where the planned joints cannot move it"
-                    : "the start configuration is in collision or outside limits");
+                (checker.static_collision()
+                     ? "the robot is in collision where the planned joints cannot move it: "
+                     : "the start configuration is in collision: ") +
+                    describe_robot_contacts(scene_, m, d, attachments_));
   }
 
   auto space = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned>(n));
@@ -172,8 +190,30 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   }
   space->setBounds(bounds);
   auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker([&checker](const ob::State* s) {
+  // Clearance: states keep o.clearance_m from obstacles, except within kEndpointRadius (joint
+  // space, max-norm) of the start or a goal, which may be closer (a hand next to what it will
+  // grasp). Without it, simplified paths graze obstacles and execution, which tracks the
+  // path only to within a few millimetres, touches them.
+  auto near_endpoint = [&](const double* v) {
+    auto near = [&](const std::vector<double>& e) {
+      for (size_t i = 0; i < n; ++i) {
+        if (std::abs(v[i] - e[i]) > kEndpointRadius) return false;
+      }
+      return true;
+    };
+    if (near(start)) return true;
+    for (const auto& g : goals) {
+      if (near(g)) return true;
+    }
+    return false;
+  };
+  const double clearance = o.clearance_m;
+  si->setStateValidityChecker([&checker, clearance, near_endpoint](const ob::State* s) {
     const auto* v = s->as<ob::RealVectorStateSpace::StateType>()->values;
+    if (clearance > 0) {
+      if (!checker.within_margin(v, clearance)) return true;
+      if (!near_endpoint(v)) return false;
+    }
     return !checker.in_collision(v);
   });
   si->setStateValidityCheckingResolution(o.motion_resolution);

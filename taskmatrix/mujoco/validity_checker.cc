@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -312,6 +313,25 @@ bool ValidityChecker::in_collision(const double* values) {
   return false;
 }
 
+bool ValidityChecker::within_margin(const double* values, double margin_m) {
+  ++checks_;
+  if (static_collision_) {
+    for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
+    return true;
+  }
+  set_values(values);
+  for (const GeomPair& p : changing_pairs_) {
+    if (collide(p, p.margin + margin_m) > 0) return true;
+  }
+  for (const AttachedPair& p : attached_pairs_) {
+    if (p.tolerance > 0 ? pair_in_contact(p.pair, p.tolerance)
+                        : collide(p.pair, p.pair.margin + margin_m) > 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
 double ValidityChecker::distance(const double* values, double cap_m) {
   set_values(values);
   double dist = cap_m;
@@ -326,6 +346,32 @@ double ValidityChecker::distance(const double* values, double cap_m) {
     dist = std::min(dist, pd);
   }
   return dist;
+}
+
+std::string describe_robot_contacts(const Scene& scene, const mjModel* m, mjData* d,
+                                    const std::vector<Attachment>& attachments) {
+  mj_kinematics(m, d);
+  if (!attachments.empty()) place_attachments(m, d, attachments);
+  mj_collision(m, d);
+  std::string out;
+  int shown = 0;
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    if (!counts_as_robot_collision(scene, m, c, attachments)) continue;
+    if (++shown > 3) {
+      out += "; ...";
+      break;
+    }
+    auto name = [&](int g) {
+      const char* geom = mj_id2name(m, mjOBJ_GEOM, g);
+      const char* body = mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[g]);
+      return std::string(geom ? geom : body ? body : "?");
+    };
+    char depth[48];
+    std::snprintf(depth, sizeof depth, " (depth %.1f mm)", -c.dist * 1e3);
+    out += (out.empty() ? "" : "; ") + name(c.geom1) + " touches " + name(c.geom2) + depth;
+  }
+  return out.empty() ? "no contact" : out;
 }
 
 }  // namespace taskmatrix::mujoco

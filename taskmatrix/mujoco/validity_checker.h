@@ -40,6 +40,10 @@ struct Attachment {
 void place_attachments(const mjModel* m, mjData* d, const std::vector<Attachment>& attachments);
 
 // True if contact `c` counts as a collision of the robot or what it holds.
+// The robot's (and its held objects') contacts at the state in `d` (kinematics and collision
+// are recomputed), as "a touches b (depth 1.2 mm); ...", at most three; "no contact" if none.
+std::string describe_robot_contacts(const Scene& scene, const mjModel* m, mjData* d,
+                                    const std::vector<Attachment>& attachments);
 bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjContact& c,
                                const std::vector<Attachment>& attachments);
 
@@ -65,6 +69,10 @@ class ValidityChecker {
   // Sets the moving joints' qpos to `values` (same order as moving_joints), updates the
   // moving bodies and geoms in `d`, and returns true if any robot geom is in contact.
   bool in_collision(const double* values);
+  // Like in_collision, but a pair also counts when MuJoCo finds it within `margin_m` (beyond
+  // its own margin). Pairs with a support tolerance (a held object on what it rested on) are
+  // checked as in in_collision.
+  bool within_margin(const double* values, double margin_m);
 
   // Smallest signed distance (m) between the geoms the moving joints move (attached objects
   // included) and everything they may touch, at `values`; capped at `cap_m`. Negative values

@@ -2,8 +2,10 @@
 // configurations are palm poses around the object's grasp point: the hand comes in along its
 // approach axis, horizontally from several directions around the robot-object line (closing
 // axis horizontal, then vertical) and from above, at two stand-off distances. Each is tried
-// in turn (IK, then planning) and the first plan found is executed. Exits at once when the
-// object is already graspable by that hand.
+// in turn (IK, then planning) and the first plan found is executed. When the arm alone
+// cannot reach any of them (IK fails) and the torso is free, the torso and arm are planned
+// together (a tall robot bends over a table). Exits at once when the object is already
+// graspable by that hand.
 #include <cmath>
 
 #include "taskmatrix/programs/primitives.h"
@@ -28,13 +30,16 @@ Eigen::Quaterniond palm_orientation(const Eigen::Vector3d& approach, const Eigen
 
 class Reach final : public core::TaskProgram {
  public:
-  explicit Reach(const core::Params& p) : object_(p.text("object")), side_(p.text("side")) {}
+  explicit Reach(const core::Params& p)
+      : object_(p.text("object")), side_(p.text("side")), use_torso_(p.flag("torso")) {}
 
   std::vector<std::string> chains(const core::Skillset&) const override {
     return {arm_of(side_ == "any" ? "left" : side_)};
   }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
     if (side_ == "any") side_ = nearest_free_side(ctx, object_, arm_of);
+    torso_ = use_torso_ && !ctx.busy("torso");
+    if (torso_) return {"torso", arm_of(side_)};
     return {arm_of(side_)};
   }
 
@@ -53,7 +58,15 @@ class Reach final : public core::TaskProgram {
     const std::vector<core::Pose> poses = candidate_poses(skills, *hand, *o);
     core::IkOptions ik;
     ik.restarts = 8;
+    // An arm with fewer than six joints cannot reach every hand pose: leave the hand's turn
+    // about its palm normal free (the approach direction may swing in the palm's plane).
+    if (skills.chain(arm_of(side_)).joints.size() < 6) {
+      ik.free_axis = vec(hand->approach).cross(vec(hand->closing));
+    }
     failure_ = motion_.plan_to_poses(ctx, {arm_of(side_)}, hand->palm, poses, ik);
+    if (torso_ && failure_.rfind("ik_failure", 0) == 0) {
+      failure_ = motion_.plan_to_poses(ctx, {"torso", arm_of(side_)}, hand->palm, poses, ik);
+    }
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
@@ -113,6 +126,7 @@ class Reach final : public core::TaskProgram {
   }
 
   std::string object_, side_;
+  bool use_torso_ = true, torso_ = false;
   MotionStage motion_;
   std::string failure_;
   bool done_ = false;
@@ -125,7 +139,9 @@ core::ProgramType reach_program() {
           "collision-free arm motion to a hand pose from which `object` can be grasped",
           {{"object", core::ParamType::kString, true, {}, {}, "object id in the perceptual model"},
            {"side", core::ParamType::kString, false, std::string("any"), kSides,
-            "arm to use; any: the free arm nearest the object"}},
+            "arm to use; any: the free arm nearest the object"},
+           {"torso", core::ParamType::kBool, false, true, {},
+            "bend the torso too when the arm alone cannot reach (if the torso is free)"}},
           [](const core::Params& p) { return std::make_unique<Reach>(p); }};
 }
 
