@@ -48,7 +48,7 @@ struct PlanOptions {
   // Distance paths keep from obstacles, except near the start and goals (which may be closer):
   // room for the execution's tracking error. 0: paths may touch.
   double clearance_m = 0.01;
-  std::uint32_t seed = 1;            // > 0
+  std::uint32_t seed = 1;  // > 0
 };
 
 enum class IkStatus {

@@ -66,7 +66,7 @@ void HeadSensor::map_geoms() {
   }
 }
 
-const DepthImage& HeadSensor::capture() {
+const SensorImage& HeadSensor::capture() {
   map_geoms();
   const mjModel* m = skills_.model();
   const mjData* d = skills_.sim_data();

@@ -29,7 +29,7 @@ struct HeadSensorOptions {
 };
 
 // One capture. Pixels are row-major from the top-left.
-struct DepthImage {
+struct SensorImage {
   int width = 0, height = 0;
   std::vector<float> depth_m;  // along the optical axis; 0 where nothing is hit within range
   std::vector<int> thing;      // index into HeadSensor::things(), or -1
@@ -49,7 +49,7 @@ class HeadSensor {
 
   // Casts the rays in the simulation's current state (after the layout is applied: the
   // things include the active obstacles as they are at the first capture after a layout).
-  const DepthImage& capture();
+  const SensorImage& capture();
   // What the last capture recognised.
   std::vector<Recognition> recognise() const;
   const std::vector<SceneThing>& things() const { return things_; }
@@ -64,7 +64,7 @@ class HeadSensor {
   HeadSensorOptions options_;
   std::vector<SceneThing> things_;
   std::vector<int> geom_thing_;  // geom -> thing index or -1
-  DepthImage image_;
+  SensorImage image_;
   std::vector<Eigen::Vector3d> rays_;  // world directions of the last capture (unit)
   std::vector<double> distance_;       // along each ray; -1 for no hit
   Eigen::Vector3d origin_;

@@ -3,8 +3,8 @@
 #include <Eigen/Dense>
 
 #include <chrono>
-#include <optional>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <stdexcept>
 

@@ -140,7 +140,11 @@ core::ProgramType reach_program() {
           {{"object", core::ParamType::kString, true, {}, {}, "object id in the perceptual model"},
            {"side", core::ParamType::kString, false, std::string("any"), kSides,
             "arm to use; any: the free arm nearest the object"},
-           {"torso", core::ParamType::kBool, false, true, {},
+           {"torso",
+            core::ParamType::kBool,
+            false,
+            true,
+            {},
             "bend the torso too when the arm alone cannot reach (if the torso is free)"}},
           [](const core::Params& p) { return std::make_unique<Reach>(p); }};
 }

@@ -36,7 +36,7 @@ class HeadSensorTest : public ::testing::TestWithParam<std::string> {
 
 TEST_P(HeadSensorTest, SeesTheTableObjectsAndEveryHitLiesOnWhatItIsLabelled) {
   HeadSensor sensor(*skills_, {64, 48, 5.0, 3});
-  const DepthImage& image = sensor.capture();
+  const SensorImage& image = sensor.capture();
   const auto seen = recognised(sensor);
   for (const char* id : {"cup", "box", "work_surface"}) {
     ASSERT_TRUE(seen.count(id)) << id << " not recognised";

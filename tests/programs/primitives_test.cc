@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <set>
 
 #include "taskmatrix/core/executive.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
+#include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::programs {
@@ -36,6 +39,8 @@ class PrimitivesTest : public ::testing::TestWithParam<test::RobotEnv> {
     register_primitives(registry_);
     skills_ = std::make_unique<mujoco::MujocoSkillset>(
         test::scene(GetParam().robot, GetParam().environment));
+    // A fixed layout: eight obstacles of layout seed 3 (on the floor and the work surface).
+    skills_->apply_layout(skills_->scene().make_layout(8, 3));
     perception_ = std::make_unique<mujoco::GroundTruthPerception>(*skills_);
     make_executive(1);
   }
@@ -61,6 +66,25 @@ class PrimitivesTest : public ::testing::TestWithParam<test::RobotEnv> {
     }
     return out;
   }
+  // With TASKMATRIX_RENDER_DIR set, writes the scene now to DIR/<test>_<pair>_<label>.png, for
+  // looking at what the programs did.
+  void snapshot(const std::string& label) {
+    const char* dir = std::getenv("TASKMATRIX_RENDER_DIR");
+    if (!dir) return;
+    mujoco::OffscreenRenderer renderer(skills_->model(), 640, 480);
+    mujoco::CameraView view;
+    view.lookat[0] = 0.35;
+    view.lookat[2] = 0.85;
+    view.distance = 1.7;
+    view.azimuth = 145;
+    view.elevation = -28;
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->name());
+    std::replace(name.begin(), name.end(), '/', '_');
+    mujoco::write_png(
+        std::string(dir) + "/" + name + "_" + label + ".png",
+        renderer.render_rgb(skills_->model(), const_cast<mjData*>(skills_->sim_data()), view));
+  }
   bool holds(const core::ConditionPtr& c) {
     executive_->perceive();
     return c->holds(core::World{*skills_, executive_->percepts()});
@@ -77,6 +101,7 @@ TEST_P(PrimitivesTest, ReachGraspReleaseTheCup) {
   const core::Message reach = run("reach", {{"object", "cup"}});
   ASSERT_EQ(reach.type, MessageType::kCompleted) << reach.reason;
   EXPECT_TRUE(holds(core::graspable("cup")));
+  snapshot("reached");
   // The planning messages carry the plan; the last one is the plan executed.
   const std::vector<core::Message> msgs = messages_of("reach");
   const auto ended = std::find_if(msgs.rbegin(), msgs.rend(), [](const core::Message& m) {
@@ -90,6 +115,7 @@ TEST_P(PrimitivesTest, ReachGraspReleaseTheCup) {
   const core::Message grasp = run("grasp", {{"object", "cup"}});
   ASSERT_EQ(grasp.type, MessageType::kCompleted) << grasp.reason;
   EXPECT_TRUE(holds(core::grasping("cup")));
+  snapshot("grasped");
   const std::string hand = skills_->holder_of("cup");
   ASSERT_FALSE(hand.empty());
 
@@ -103,6 +129,7 @@ TEST_P(PrimitivesTest, ReachGraspReleaseTheCup) {
 TEST_P(PrimitivesTest, PosturalAndCannedMotions) {
   const core::Message wave_start = run("postural", {{"posture", "wave_start"}});
   ASSERT_EQ(wave_start.type, MessageType::kCompleted) << wave_start.reason;
+  snapshot("wave_start");
   const core::Message wave = run("canned", {{"motion", "wave"}});
   ASSERT_EQ(wave.type, MessageType::kCompleted) << wave.reason;
   const core::Message rest = run("postural", {{"posture", "rest"}});
@@ -130,6 +157,78 @@ TEST_P(PrimitivesTest, FailuresNameTheirReason) {
             "invalid_input: robot '" + skills_->profile().name +
                 "' has no canned motion 'moonwalk' (it has: bow, wave)");
   EXPECT_FALSE(executive_->any_running());
+}
+
+TEST_P(PrimitivesTest, ReachExitsEarlyWhenTheObjectIsAlreadyGraspable) {
+  ASSERT_EQ(run("reach", {{"object", "box"}}).type, MessageType::kCompleted);
+  const size_t before = messages_of("reach").size();
+  const core::Message again = run("reach", {{"object", "box"}});
+  EXPECT_EQ(again.type, MessageType::kCompleted) << again.reason;
+  const std::vector<core::Message> msgs = messages_of("reach");
+  ASSERT_EQ(msgs.size(), before + 2) << "started and completed only, no planning";
+  EXPECT_EQ(msgs[before].type, MessageType::kStarted);
+}
+
+TEST_P(PrimitivesTest, SingleLimbPosturesMirrorByTheDocumentedRule) {
+  // wave_start names one arm; find which.
+  const std::vector<std::string> named = posture_values(*skills_, "wave_start", {}).chains;
+  const std::string arm = *std::find_if(named.begin(), named.end(), [](const std::string& c) {
+    return core::chain_kind(c) == "arm";
+  });
+  const std::string other = core::mirror_chain(arm);
+  // Busy: the named arm is held by another program, so the posture goes to the other arm.
+  const int hold = executive_->start(std::make_unique<Hold>(std::vector<std::string>{arm}), "hold");
+  const int id = executive_->start("postural", {{"posture", "wave_start"}});
+  EXPECT_EQ(executive_->holder_of_chain(other), id);
+  executive_->run(20.0);
+  ASSERT_EQ(executive_->outcome(id)->type, MessageType::kCompleted)
+      << executive_->outcome(id)->reason;
+  const ChainValues mirrored_goal = mirrored(*skills_, posture_values(*skills_, "wave_start", {}));
+  EXPECT_LE(max_difference(skills_->configuration(mirrored_goal.chains), mirrored_goal.values),
+            0.05);
+  executive_->halt(hold);
+  // Already there: the other arm holds the mirrored posture, so it is chosen and nothing moves.
+  const size_t before = executive_->log().size();
+  const core::Message again = run("postural", {{"posture", "wave_start"}});
+  EXPECT_EQ(again.type, MessageType::kCompleted);
+  for (size_t i = before; i < executive_->log().size(); ++i) {
+    EXPECT_NE(executive_->log()[i].type, MessageType::kPlanningStarted);
+  }
+  // Both free and neither there: a random choice, reproducible from the run seed; over eight
+  // seeds both arms are chosen.
+  std::set<std::string> chosen;
+  for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+    skills_->reset();
+    make_executive(seed);
+    const int p = executive_->start("postural", {{"posture", "wave_start"}});
+    chosen.insert(executive_->holder_of_chain(arm) == p ? arm : other);
+    executive_->halt(p);
+  }
+  EXPECT_EQ(chosen.size(), 2u);
+  // side=as_named never mirrors.
+  skills_->reset();
+  make_executive(1);
+  const int named_id =
+      executive_->start("postural", {{"posture", "wave_start"}, {"side", "as_named"}});
+  EXPECT_EQ(executive_->holder_of_chain(arm), named_id);
+}
+
+TEST_P(PrimitivesTest, InSensorModeAnObjectNeverSeenIsUnknownToPrograms) {
+  // An obstacle behind the robot, where the head cannot see it.
+  core::ObstacleLayout layout;
+  core::PlacedObstacle o;
+  o.position = Eigen::Vector3d(-1.0, 0.0, 0.3);
+  o.size = Eigen::Vector3d::Constant(0.1);
+  layout.obstacles.push_back(o);
+  skills_->apply_layout(layout);
+  perception_ = std::make_unique<mujoco::SensorPerception>(*skills_);
+  make_executive(1);
+  EXPECT_FALSE(executive_->percepts().knows("obstacle_0"));
+  EXPECT_TRUE(executive_->percepts().knows("cup"));
+  EXPECT_EQ(run("reach", {{"object", "obstacle_0"}}).reason,
+            "perception_miss: 'obstacle_0' is not in the perceptual model");
+  // The cup, which the head sees, is reached as in ground truth.
+  EXPECT_EQ(run("reach", {{"object", "cup"}}).type, MessageType::kCompleted);
 }
 
 INSTANTIATE_TEST_SUITE_P(
