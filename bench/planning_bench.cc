@@ -119,6 +119,7 @@ void BM_PlanReach_Skillset(benchmark::State& state) {
   options.time_limit_s = kTimeLimit;
   options.motion_resolution = kResolution;
   options.simplify_time_s = 0;
+  options.clearance_m = static_cast<double>(state.range(0)) * 1e-3;  // 0: the raw problem
   size_t k = 0;
   double checks = 0, exact = 0;
   for (auto _ : state) {
@@ -130,6 +131,11 @@ void BM_PlanReach_Skillset(benchmark::State& state) {
   state.counters["collision_checks"] = benchmark::Counter(checks / state.iterations());
   state.counters["exact"] = benchmark::Counter(exact / state.iterations());
 }
-BENCHMARK(BM_PlanReach_Skillset)->Unit(benchmark::kMillisecond)->Iterations(16);
+BENCHMARK(BM_PlanReach_Skillset)
+    ->ArgName("clearance_mm")
+    ->Arg(0)
+    ->Arg(10)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(16);
 
 }  // namespace
