@@ -159,6 +159,39 @@ TEST_P(PrimitivesTest, FailuresNameTheirReason) {
   EXPECT_FALSE(executive_->any_running());
 }
 
+TEST_P(PrimitivesTest, APostureOrMotionInsideAnObstacleIsAnInvalidGoal) {
+  // A box where wave_start puts the hand.
+  const ChainValues goal = posture_values(*skills_, "wave_start", {});
+  const std::string arm =
+      *std::find_if(goal.chains.begin(), goal.chains.end(),
+                    [](const std::string& c) { return c.find("_arm") != std::string::npos; });
+  const std::string side = arm.substr(0, arm.find('_'));
+  size_t offset = 0;
+  for (const std::string& c : goal.chains) {
+    if (c == arm) break;
+    offset += skills_->chain(c).joints.size();
+  }
+  const std::vector<double> arm_goal(goal.values.begin() + static_cast<long>(offset),
+                                     goal.values.begin() + static_cast<long>(offset) +
+                                         static_cast<long>(skills_->chain(arm).joints.size()));
+  core::ObstacleLayout layout;
+  core::PlacedObstacle o;
+  o.position =
+      skills_->frame_pose_at({arm}, arm_goal, skills_->profile().find_hand(side)->palm).position;
+  o.size = Eigen::Vector3d::Constant(0.05);
+  layout.obstacles.push_back(o);
+  skills_->apply_layout(layout);
+  make_executive(1);
+  const core::Message postural = run("postural", {{"posture", "wave_start"}, {"side", "as_named"}});
+  EXPECT_EQ(postural.reason.rfind("invalid_goal: ", 0), 0u) << postural.reason;
+  const core::Message canned = run("canned", {{"motion", "wave"}, {"side", "as_named"}});
+  EXPECT_EQ(canned.reason.rfind("invalid_goal: ", 0), 0u) << canned.reason;
+  // The other arm is free to take the mirrored posture.
+  const core::Message mirrored_ok =
+      run("postural", {{"posture", "wave_start"}, {"side", side == "left" ? "right" : "left"}});
+  EXPECT_EQ(mirrored_ok.type, MessageType::kCompleted) << mirrored_ok.reason;
+}
+
 TEST_P(PrimitivesTest, ReachExitsEarlyWhenTheObjectIsAlreadyGraspable) {
   ASSERT_EQ(run("reach", {{"object", "box"}}).type, MessageType::kCompleted);
   const size_t before = messages_of("reach").size();
