@@ -297,13 +297,18 @@ void ValidityChecker::set_values(const double* values) {
   for (size_t k : moving_attachments_) place_attached(attachments_[k]);
 }
 
-bool ValidityChecker::in_collision(const double* values) {
+bool ValidityChecker::begin_check(const double* values) {
   ++checks_;
   if (static_collision_) {
     for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
-    return true;
+    return false;
   }
   set_values(values);
+  return true;
+}
+
+bool ValidityChecker::in_collision(const double* values) {
+  if (!begin_check(values)) return true;
   for (const GeomPair& p : changing_pairs_) {
     if (pair_in_contact(p)) return true;
   }
@@ -314,12 +319,7 @@ bool ValidityChecker::in_collision(const double* values) {
 }
 
 bool ValidityChecker::within_margin(const double* values, double margin_m) {
-  ++checks_;
-  if (static_collision_) {
-    for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
-    return true;
-  }
-  set_values(values);
+  if (!begin_check(values)) return true;
   for (const GeomPair& p : changing_pairs_) {
     if (collide(p, p.margin + margin_m) > 0) return true;
   }

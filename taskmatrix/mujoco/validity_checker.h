@@ -93,6 +93,9 @@ class ValidityChecker {
   void set_values(const double* values);
   void update_moving_kinematics();
   void place_attached(const Attachment& a);
+  // Counts the check and poses the moving joints at `values`; false if the robot is in static
+  // collision (then every check is a collision and nothing else needs computing).
+  bool begin_check(const double* values);
   // Number of contacts MuJoCo's narrow phase reports for the pair within `margin`, in scratch_.
   int collide(const GeomPair& p, double margin);
   bool pair_in_contact(const GeomPair& p, double tolerance = 0);
