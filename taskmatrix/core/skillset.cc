@@ -88,6 +88,7 @@ ExecutionReport Skillset::execute(const std::vector<std::string>& chain_names,
     if (std::optional<ExecutionReport> done = follower->step()) return *done;
     const StepReport step = advance();
     if (step.unstable) {
+      report = follower->report();
       report.duration_s = time() - t0;
       report.status = ExecutionStatus::kSimulationUnstable;
       report.message = step.message;

@@ -36,6 +36,8 @@ class TrajectoryFollower {
   // the motion has ended (completed, collision or tracking error); nullopt while it runs.
   std::optional<ExecutionReport> step();
   const std::vector<std::string>& chains() const { return chains_; }
+  // What the motion has done so far (tracking error, collision seen).
+  const ExecutionReport& report() const { return report_; }
 
  private:
   ExecutionReport finish(ExecutionStatus status, std::string message);

@@ -174,12 +174,13 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     return fail(core::PlanStatus::kInvalidStart, buf);
   }
   if (checker.static_collision() || checker.in_collision(start.data())) {
+    const std::string contacts = describe_robot_contacts(scene_, m, d, attachments_);
     restore();
     return fail(core::PlanStatus::kInvalidStart,
                 (checker.static_collision()
                      ? "the robot is in collision where the planned joints cannot move it: "
                      : "the start configuration is in collision: ") +
-                    describe_robot_contacts(scene_, m, d, attachments_));
+                    contacts);
   }
 
   auto space = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned>(n));
@@ -214,7 +215,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
       if (!checker.within_margin(v, clearance)) return true;
       if (!near_endpoint(v)) return false;
     }
-    return !checker.in_collision(v);
+    return !checker.in_collision(v, /*count=*/clearance <= 0);
   });
   si->setStateValidityCheckingResolution(o.motion_resolution);
   si->setup();

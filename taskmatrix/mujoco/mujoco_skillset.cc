@@ -67,6 +67,7 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
 }
 
 void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
+  require_no_query("apply_layout");
   worker_.apply_layout(layout);
   obstacle_count_ = static_cast<int>(layout.obstacles.size());
   forget_obstacles();
@@ -74,6 +75,7 @@ void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
 }
 
 void MujocoSkillset::set_obstacles_need_perception(bool need) {
+  require_no_query("set_obstacles_need_perception");
   obstacles_need_perception_ = need;
   forget_obstacles();
 }
@@ -94,35 +96,40 @@ bool MujocoSkillset::obstacle_known(int slot) const {
 }
 
 MujocoSkillset::BeliefScope::BeliefScope(MujocoSkillset& s) : s_(s) {
-  if (s_.belief_depth_++ > 0 || !s_.obstacles_need_perception_) return;
-  mjModel* m = s_.worker_.model();
-  const std::vector<ObstacleSlot>& slots = s_.scene_->obstacle_slots();
-  s_.hidden_bits_.clear();
-  for (int slot = 0; slot < s_.obstacle_count_; ++slot) {
-    for (int g : slots[slot].geoms) {
-      s_.hidden_bits_.emplace_back(m->geom_contype[g], m->geom_conaffinity[g]);
+  if (s_.belief_depth_ == 0 && s_.obstacles_need_perception_) {
+    mjModel* m = s_.worker_.model();
+    const std::vector<ObstacleSlot>& slots = s_.scene_->obstacle_slots();
+    s_.hidden_bits_.clear();
+    for (int slot = 0; slot < s_.obstacle_count_; ++slot) {
       if (s_.obstacle_perceived_[slot]) continue;
-      m->geom_contype[g] = 0;
-      m->geom_conaffinity[g] = 0;
+      for (int g : slots[slot].geoms) {
+        s_.hidden_bits_.push_back({g, m->geom_contype[g], m->geom_conaffinity[g]});
+        m->geom_contype[g] = 0;
+        m->geom_conaffinity[g] = 0;
+      }
     }
   }
+  ++s_.belief_depth_;
 }
 
 MujocoSkillset::BeliefScope::~BeliefScope() {
-  if (--s_.belief_depth_ > 0 || !s_.obstacles_need_perception_) return;
+  if (--s_.belief_depth_ > 0) return;
   mjModel* m = s_.worker_.model();
-  const std::vector<ObstacleSlot>& slots = s_.scene_->obstacle_slots();
-  size_t k = 0;
-  for (int slot = 0; slot < s_.obstacle_count_; ++slot) {
-    for (int g : slots[slot].geoms) {
-      m->geom_contype[g] = s_.hidden_bits_[k].first;
-      m->geom_conaffinity[g] = s_.hidden_bits_[k].second;
-      ++k;
-    }
+  for (const HiddenGeom& h : s_.hidden_bits_) {
+    m->geom_contype[h.geom] = h.contype;
+    m->geom_conaffinity[h.geom] = h.conaffinity;
+  }
+  s_.hidden_bits_.clear();
+}
+
+void MujocoSkillset::require_no_query(const char* what) const {
+  if (belief_depth_ > 0) {
+    throw std::logic_error(std::string(what) + " while a query is running (from a callback)");
   }
 }
 
 void MujocoSkillset::reset() {
+  require_no_query("reset");
   worker_.reset_to_start();
   forget_obstacles();
   attachments_.clear();

@@ -122,6 +122,8 @@ class MujocoSkillset final : public core::Skillset {
     MujocoSkillset& s_;
   };
   void forget_obstacles();
+  // Throws std::logic_error when called from inside a query (a goal sampler's callback).
+  void require_no_query(const char* what) const;
   int object_body(const std::string& object) const;  // -1 if not an object's body
   // The symbolic object name of a body's object, or the body's name.
   std::string name_of_body(int body) const;
@@ -142,7 +144,10 @@ class MujocoSkillset final : public core::Skillset {
   bool obstacles_need_perception_ = false;
   std::vector<char> obstacle_perceived_;  // per slot
   int belief_depth_ = 0;
-  std::vector<std::pair<int, int>> hidden_bits_;  // contype, conaffinity of hidden slot geoms
+  struct HiddenGeom {
+    int geom, contype, conaffinity;
+  };
+  std::vector<HiddenGeom> hidden_bits_;  // what the outermost BeliefScope cleared
   double period_ = 0.01;
   int substeps_ = 5;
   double period_start_ = 0;

@@ -215,8 +215,16 @@ void Scene::index_and_validate() {
     for (size_t k = 0; k < motion.keyframes.size(); ++k) {
       size_t offset = 0;
       for (const std::string& chain_name : motion.chains) {
-        check_limits(chain_name, motion.keyframes[k].values.data() + offset,
-                     "canned." + motion_name + ".keyframes[" + std::to_string(k) + "]");
+        const std::string key = "canned." + motion_name + ".keyframes[" + std::to_string(k) + "]";
+        const double* values = motion.keyframes[k].values.data() + offset;
+        check_limits(chain_name, values, key);
+        const std::string other = core::mirror_chain(chain_name);
+        if (!other.empty()) {
+          const std::vector<double>& signs = robot_.mirror_signs.at(core::chain_kind(chain_name));
+          std::vector<double> mirrored(signs.size());
+          for (size_t i = 0; i < signs.size(); ++i) mirrored[i] = signs[i] * values[i];
+          check_limits(other, mirrored.data(), key + " (mirrored to " + other + ")");
+        }
         offset += chain(chain_name).joints.size();
       }
     }

@@ -137,6 +137,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
     if (object_of[m->geom_bodyid[p.g1]] >= 0 || object_of[m->geom_bodyid[p.g2]] >= 0) continue;
     if (moving[m->geom_bodyid[p.g1]] || moving[m->geom_bodyid[p.g2]]) {
       changing_pairs_.push_back(p);
+      changing_pair_with_world_.push_back(!scene.is_robot_body(m->geom_bodyid[p.g1]) ||
+                                          !scene.is_robot_body(m->geom_bodyid[p.g2]));
     } else if (!static_collision_ && pair_in_contact(p)) {
       static_collision_ = true;
     }
@@ -297,8 +299,8 @@ void ValidityChecker::set_values(const double* values) {
   for (size_t k : moving_attachments_) place_attached(attachments_[k]);
 }
 
-bool ValidityChecker::begin_check(const double* values) {
-  ++checks_;
+bool ValidityChecker::begin_check(const double* values, bool count) {
+  if (count) ++checks_;
   if (static_collision_) {
     for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
     return false;
@@ -307,8 +309,8 @@ bool ValidityChecker::begin_check(const double* values) {
   return true;
 }
 
-bool ValidityChecker::in_collision(const double* values) {
-  if (!begin_check(values)) return true;
+bool ValidityChecker::in_collision(const double* values, bool count) {
+  if (!begin_check(values, count)) return true;
   for (const GeomPair& p : changing_pairs_) {
     if (pair_in_contact(p)) return true;
   }
@@ -320,8 +322,9 @@ bool ValidityChecker::in_collision(const double* values) {
 
 bool ValidityChecker::within_margin(const double* values, double margin_m) {
   if (!begin_check(values)) return true;
-  for (const GeomPair& p : changing_pairs_) {
-    if (collide(p, p.margin + margin_m) > 0) return true;
+  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+    const GeomPair& p = changing_pairs_[k];
+    if (collide(p, changing_pair_with_world_[k] ? p.margin + margin_m : p.margin) > 0) return true;
   }
   for (const AttachedPair& p : attached_pairs_) {
     if (p.tolerance > 0 ? pair_in_contact(p.pair, p.tolerance)
@@ -351,7 +354,10 @@ double ValidityChecker::distance(const double* values, double cap_m) {
 std::string describe_robot_contacts(const Scene& scene, const mjModel* m, mjData* d,
                                     const std::vector<Attachment>& attachments) {
   mj_kinematics(m, d);
-  if (!attachments.empty()) place_attachments(m, d, attachments);
+  if (!attachments.empty()) {
+    place_attachments(m, d, attachments);
+    mj_kinematics(m, d);
+  }
   mj_collision(m, d);
   std::string out;
   int shown = 0;

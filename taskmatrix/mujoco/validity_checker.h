@@ -68,10 +68,12 @@ class ValidityChecker {
 
   // Sets the moving joints' qpos to `values` (same order as moving_joints), updates the
   // moving bodies and geoms in `d`, and returns true if any robot geom is in contact.
-  bool in_collision(const double* values);
-  // Like in_collision, but a pair also counts when MuJoCo finds it within `margin_m` (beyond
-  // its own margin). Pairs with a support tolerance (a held object on what it rested on) are
-  // checked as in in_collision.
+  // `count`: whether this check adds to checks() (false when it follows within_margin on the
+  // same state).
+  bool in_collision(const double* values, bool count = true);
+  // Like in_collision, but a robot-world pair also counts when MuJoCo finds it within
+  // `margin_m` (beyond its own margin). Robot-robot pairs and pairs with a support tolerance
+  // (a held object on what it rested on) are checked as in in_collision.
   bool within_margin(const double* values, double margin_m);
 
   // Smallest signed distance (m) between the geoms the moving joints move (attached objects
@@ -95,7 +97,7 @@ class ValidityChecker {
   void place_attached(const Attachment& a);
   // Counts the check and poses the moving joints at `values`; false if the robot is in static
   // collision (then every check is a collision and nothing else needs computing).
-  bool begin_check(const double* values);
+  bool begin_check(const double* values, bool count = true);
   // Number of contacts MuJoCo's narrow phase reports for the pair within `margin`, in scratch_.
   int collide(const GeomPair& p, double margin);
   bool pair_in_contact(const GeomPair& p, double tolerance = 0);
@@ -109,6 +111,7 @@ class ValidityChecker {
   std::vector<int> moving_bodies_;  // in increasing id order: parents first
   std::vector<int> moving_geoms_;
   std::vector<GeomPair> changing_pairs_;
+  std::vector<char> changing_pair_with_world_;  // per changing pair: one geom is not the robot's
   std::vector<Attachment> attachments_;
   std::vector<size_t> moving_attachments_;    // indices into attachments_
   std::vector<AttachedPair> attached_pairs_;  // pairs that move with moving attachments

@@ -11,8 +11,6 @@ namespace taskmatrix::programs {
 
 namespace {
 
-constexpr double kAlreadyThere = 0.02;
-
 const core::CannedMotion& canned_motion(const core::Skillset& skills, const std::string& name) {
   const auto& all = skills.profile().canned;
   const auto it = all.find(name);

@@ -10,8 +10,6 @@ namespace taskmatrix::programs {
 
 namespace {
 
-constexpr double kAlreadyThere = 0.02;  // rad or m
-
 class Postural final : public core::TaskProgram {
  public:
   explicit Postural(const core::Params& p)

@@ -106,7 +106,7 @@ LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
   const bool named_busy = busy(named), other_busy = busy(other);
   if (named_busy != other_busy) return {named_busy, "busy"};
   auto there = [&](const ChainValues& v) {
-    return max_difference(ctx.skills.configuration(v.chains), v.values) <= 0.05;
+    return max_difference(ctx.skills.configuration(v.chains), v.values) <= kAlreadyThere;
   };
   const bool named_there = there(named), other_there = there(other);
   if (named_there != other_there) return {other_there, "already_there"};
@@ -151,7 +151,7 @@ std::string MotionStage::start_following(core::ProgramContext& ctx,
   const std::string reason = plan->success() ? "" : plan_failure_reason(*plan);
   ctx.emit(core::MessageType::kPlanningEnded, reason, plan);
   if (!plan->success()) return reason;
-  follow(ctx, chains, core::timed(ctx.skills().time_parameterize(chains, plan->path)));
+  follow(ctx, chains, core::timed(ctx.skills().time_parameterize(chains, plan->path)), execution);
   return "";
 }
 

@@ -55,6 +55,9 @@ struct LimbChoice {
 LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
                        const std::string& side);
 
+// Joints within this of a target count as there already (rad or m): no motion is planned.
+inline constexpr double kAlreadyThere = 0.02;
+
 // Largest |a - b| over joints.
 double max_difference(const std::vector<double>& a, const std::vector<double>& b);
 
@@ -75,6 +78,8 @@ class MotionStage {
   // nullopt while moving; "" once completed; else the failure reason.
   std::optional<std::string> step();
   const core::PlanResult* last_plan() const { return plan_.get(); }
+  // How planned motions are followed (tolerance at the end, settling time).
+  core::ExecutionOptions execution;
 
  private:
   std::string start_following(core::ProgramContext& ctx, const std::vector<std::string>& chains,

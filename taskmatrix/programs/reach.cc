@@ -63,6 +63,9 @@ class Reach final : public core::TaskProgram {
     if (skills.chain(arm_of(side_)).joints.size() < 6) {
       ik.free_axis = vec(hand->approach).cross(vec(hand->closing));
     }
+    // Settle close to the planned hand pose: the graspable test allows 3 cm and the second
+    // stand-off uses 2.8 cm of it.
+    motion_.execution.position_tolerance = 0.003;
     failure_ = motion_.plan_to_poses(ctx, {arm_of(side_)}, hand->palm, poses, ik);
     if (torso_ && failure_.rfind("ik_failure", 0) == 0) {
       failure_ = motion_.plan_to_poses(ctx, {"torso", arm_of(side_)}, hand->palm, poses, ik);

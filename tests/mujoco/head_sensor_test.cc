@@ -113,10 +113,8 @@ TEST_P(HeadSensorTest, SensorModeKnowsOnlyWhatTheHeadHasSeen) {
   ASSERT_TRUE(report.collision);
   EXPECT_EQ(report.collision->other, "obstacle_0");
 
-  // Turn the head (and torso) towards the obstacle: once seen, queries know it.
+  // Turn the head towards the obstacle: once seen, queries know it.
   skills_->reset();
-  perception.update(0.0, model);
-  EXPECT_FALSE(skills_->obstacle_known(0)) << "reset forgets";
   const core::ChainInfo& head = skills_->chain("head");
   std::vector<double> look(head.joints.size(), 0.0);
   look[0] = head.lower[0];  // yaw to the right, level
@@ -126,6 +124,48 @@ TEST_P(HeadSensorTest, SensorModeKnowsOnlyWhatTheHeadHasSeen) {
   EXPECT_DOUBLE_EQ(model.find("obstacle_0")->last_seen, 1.0);
   EXPECT_TRUE(skills_->obstacle_known(0));
   EXPECT_FALSE(skills_->is_valid({"right_arm"}, out_to_side));
+  // A reset (a new trial) forgets what was seen.
+  skills_->reset();
+  EXPECT_FALSE(skills_->obstacle_known(0));
+  EXPECT_TRUE(skills_->is_valid({"right_arm"}, out_to_side));
+}
+
+TEST_P(HeadSensorTest, TheImageIsUprightAndDepthIsAlongTheOpticalAxis) {
+  HeadSensor sensor(*skills_, {64, 48, 5.0, 3});
+  const SensorImage& image = sensor.capture();
+  // Where the pinhole model puts the cup's centre: column 0 is the left, row 0 the top.
+  const int cam = skills_->scene().head_camera();
+  const double* R = skills_->sim_data()->cam_xmat + 9 * cam;
+  const Eigen::Vector3d eye(skills_->sim_data()->cam_xpos + 3 * cam);
+  const Eigen::Vector3d x(R[0], R[3], R[6]), y(R[1], R[4], R[7]), z(R[2], R[5], R[8]);
+  const Eigen::Vector3d rel = skills_->frame_pose("cup").position - eye;
+  const double tan_half = std::tan(skills_->model()->cam_fovy[cam] * M_PI / 360.0);
+  const double u = rel.dot(x) / -rel.dot(z), v = rel.dot(y) / -rel.dot(z);
+  const double col = (u / (tan_half * 64.0 / 48.0) + 1) / 2 * 64 - 0.5;
+  const double row = (1 - v / tan_half) / 2 * 48 - 0.5;
+  double sum_col = 0, sum_row = 0;
+  int n = 0;
+  int cup = -1;
+  for (size_t t = 0; t < sensor.things().size(); ++t) {
+    if (sensor.things()[t].id == "cup") cup = static_cast<int>(t);
+  }
+  for (int r = 0; r < 48; ++r) {
+    for (int c = 0; c < 64; ++c) {
+      if (image.thing[static_cast<size_t>(r * 64 + c)] != cup) continue;
+      sum_col += c;
+      sum_row += r;
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 0);
+  EXPECT_NEAR(sum_col / n, col, 2.5);
+  EXPECT_NEAR(sum_row / n, row, 2.5);
+  // Depth is the hit point's distance along the optical axis.
+  for (size_t i : {size_t{0}, size_t{24 * 64 + 32}, size_t{47 * 64 + 63}}) {
+    const std::optional<Eigen::Vector3d> p = sensor.hit_point(i);
+    ASSERT_TRUE(p);
+    EXPECT_NEAR(image.depth_m[i], (*p - eye).dot(-z), 1e-4);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, HeadSensorTest, ::testing::Values("tallbot", "minibot"),
