@@ -61,14 +61,23 @@ bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjCon
   return true;
 }
 
-bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
-                            const std::vector<Attachment>& attachments) {
+namespace {
+
+// Full MuJoCo pipeline at the state in `d`: kinematics, held objects placed, contacts.
+void collide_whole_model(const mjModel* m, mjData* d, const std::vector<Attachment>& attachments) {
   mj_kinematics(m, d);
   if (!attachments.empty()) {
     place_attachments(m, d, attachments);
     mj_kinematics(m, d);
   }
   mj_collision(m, d);
+}
+
+}  // namespace
+
+bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
+                            const std::vector<Attachment>& attachments) {
+  collide_whole_model(m, d, attachments);
   for (int i = 0; i < d->ncon; ++i) {
     if (counts_as_robot_collision(scene, m, d->contact[i], attachments)) return true;
   }
@@ -353,12 +362,7 @@ double ValidityChecker::distance(const double* values, double cap_m) {
 
 std::string describe_robot_contacts(const Scene& scene, const mjModel* m, mjData* d,
                                     const std::vector<Attachment>& attachments) {
-  mj_kinematics(m, d);
-  if (!attachments.empty()) {
-    place_attachments(m, d, attachments);
-    mj_kinematics(m, d);
-  }
-  mj_collision(m, d);
+  collide_whole_model(m, d, attachments);
   std::string out;
   int shown = 0;
   for (int i = 0; i < d->ncon; ++i) {
