@@ -115,7 +115,7 @@ std::vector<Recognition> HeadSensor::recognise() const {
     Recognition rec;
     rec.thing = static_cast<int>(t);
     rec.pixels = pixels[t];
-    const std::optional<core::PerceivedObject> o = perceive(skills_, things_[t], 0.0);
+    std::optional<core::PerceivedObject> o = perceive(skills_, things_[t], 0.0);
     if (!o) continue;
     const Eigen::AlignedBox3d& box = o->box;
     for (const Eigen::Vector3d& dir : rays_) {
@@ -123,7 +123,8 @@ std::vector<Recognition> HeadSensor::recognise() const {
       if (entry >= 0 && entry <= options_.range_m) ++rec.in_box;
     }
     rec.in_box = std::max(rec.in_box, rec.pixels);  // surfaces: legs hit outside the top's box
-    out.push_back(rec);
+    rec.object = std::move(*o);
+    out.push_back(std::move(rec));
   }
   return out;
 }
@@ -135,13 +136,12 @@ SensorPerception::SensorPerception(MujocoSkillset& skills, HeadSensorOptions opt
 
 void SensorPerception::update(double time, core::PerceptualModel& model) {
   sensor_.capture();
-  for (const Recognition& rec : sensor_.recognise()) {
+  for (Recognition& rec : sensor_.recognise()) {
     const SceneThing& thing = sensor_.things()[rec.thing];
-    std::optional<core::PerceivedObject> o = perceive(skills_, thing, time);
-    if (!o) continue;
-    o->confidence = rec.confidence();
+    rec.object.last_seen = time;
+    rec.object.confidence = rec.confidence();
     if (thing.obstacle_slot >= 0) skills_.mark_obstacle_perceived(thing.obstacle_slot);
-    model.observe(std::move(*o));
+    model.observe(std::move(rec.object));
   }
 }
 

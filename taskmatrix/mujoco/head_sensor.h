@@ -36,9 +36,10 @@ struct SensorImage {
 };
 
 struct Recognition {
-  int thing = -1;  // index into HeadSensor::things()
-  int pixels = 0;  // rays ending on it
-  int in_box = 0;  // rays pointing into its bounding box within range
+  int thing = -1;                // index into HeadSensor::things()
+  int pixels = 0;                // rays ending on it
+  int in_box = 0;                // rays pointing into its bounding box within range
+  core::PerceivedObject object;  // its true pose, box and frames (last_seen, confidence unset)
   double confidence() const { return in_box > 0 ? static_cast<double>(pixels) / in_box : 0.0; }
 };
 

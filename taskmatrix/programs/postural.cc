@@ -42,9 +42,6 @@ class Postural final : public core::TaskProgram {
     return core::ProgramState::kCompleted;
   }
 
-  // Which limb it chose and why ("named", "side", "busy", "already_there", "random").
-  const LimbChoice& choice() const { return choice_; }
-
  private:
   ChainValues target(const core::Skillset& skills) const {
     const ChainValues named = posture_values(skills, posture_, only_);

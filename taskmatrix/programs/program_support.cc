@@ -97,21 +97,21 @@ double max_difference(const std::vector<double>& a, const std::vector<double>& b
 LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
                        const std::string& side) {
   const std::string named_side = single_side(named.chains);
-  if (side == "as_named" || named_side.empty()) return {false, "named"};
-  if (side != "any") return {side != named_side, "side"};
+  if (side == "as_named" || named_side.empty()) return {false};
+  if (side != "any") return {side != named_side};
   const ChainValues other = mirrored(ctx.skills, named);
   auto busy = [&](const ChainValues& v) {
     return std::any_of(v.chains.begin(), v.chains.end(), ctx.busy);
   };
   const bool named_busy = busy(named), other_busy = busy(other);
-  if (named_busy != other_busy) return {named_busy, "busy"};
+  if (named_busy != other_busy) return {named_busy};
   auto there = [&](const ChainValues& v) {
     return max_difference(ctx.skills.configuration(v.chains), v.values) <= kAlreadyThere;
   };
   const bool named_there = there(named), other_there = there(other);
-  if (named_there != other_there) return {other_there, "already_there"};
+  if (named_there != other_there) return {other_there};
   std::mt19937 rng(ctx.seed);
-  return {std::bernoulli_distribution(0.5)(rng), "random"};
+  return {std::bernoulli_distribution(0.5)(rng)};
 }
 
 std::string plan_failure_reason(const core::PlanResult& plan) {

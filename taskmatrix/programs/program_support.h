@@ -49,8 +49,7 @@ ChainValues posture_values(const core::Skillset& skills, const std::string& post
 // is busy (or the reverse), the one already at its first values if one is, else one at random.
 // `first` gives the values to compare with the current configuration.
 struct LimbChoice {
-  bool mirror = false;
-  std::string why;  // "named", "side", "busy", "already_there", "random"
+  bool mirror = false;  // use the mirrored values
 };
 LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
                        const std::string& side);
