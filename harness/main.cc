@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
   try {
     if (*list && (list_what == "programs" || list_what == "planners")) {
       taskmatrix::core::ProgramRegistry registry;
-      taskmatrix::programs::register_primitives(registry);
+      taskmatrix::programs::register_programs(registry);
       for (const std::string& name :
            list_what == "programs" ? registry.names() : taskmatrix::mujoco::planner_names()) {
         std::cout << name << "\n";

@@ -1,7 +1,9 @@
 #include "taskmatrix/core/conditions.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <stdexcept>
 #include <sstream>
 
 namespace taskmatrix::core {
@@ -145,6 +147,31 @@ class Graspable final : public Condition {
   std::string a_, side_;
 };
 
+class InView final : public Condition {
+ public:
+  explicit InView(std::string a) : a_(std::move(a)) {}
+  bool holds(const World& w, const Hypothesis* h) const override {
+    const auto box = box_of(w, a_, h);
+    return box && in_camera_view(w.skills, *box);
+  }
+  std::string describe() const override { return "in_view(" + a_ + ")"; }
+
+ private:
+  std::string a_;
+};
+
+class Exists final : public Condition {
+ public:
+  explicit Exists(std::string type) : type_(std::move(type)) {}
+  bool holds(const World& w, const Hypothesis*) const override {
+    return !w.percepts.of_type(type_).empty();
+  }
+  std::string describe() const override { return "exists(" + type_ + ")"; }
+
+ private:
+  std::string type_;
+};
+
 class Junction final : public Condition {
  public:
   Junction(std::vector<ConditionPtr> c, bool all) : c_(std::move(c)), all_(all) {}
@@ -206,6 +233,8 @@ ConditionPtr grasping(std::string object) { return std::make_shared<Grasping>(st
 ConditionPtr graspable(std::string object, std::string side) {
   return std::make_shared<Graspable>(std::move(object), std::move(side));
 }
+ConditionPtr in_view(std::string object) { return std::make_shared<InView>(std::move(object)); }
+ConditionPtr exists(std::string type) { return std::make_shared<Exists>(std::move(type)); }
 ConditionPtr all_of(std::vector<ConditionPtr> conditions) {
   return std::make_shared<Junction>(std::move(conditions), true);
 }
@@ -226,6 +255,172 @@ std::vector<Eigen::AlignedBox3d> sample_placements(const Condition& condition, c
   }
   return out;
 }
+
+bool in_camera_view(Skillset& skills, const Eigen::Vector3d& point) {
+  const CameraInfo camera = skills.head_camera();
+  const Pose pose = skills.frame_pose(camera.frame);
+  const Eigen::Vector3d p = pose.orientation.conjugate() * (point - pose.position);
+  const double ahead = -p.z();  // the camera looks along -z
+  if (ahead <= 0 || p.norm() > camera.range_m) return false;
+  const double tan_half_y = std::tan(camera.fovy_rad / 2);
+  return std::abs(p.y()) <= ahead * tan_half_y &&
+         std::abs(p.x()) <= ahead * tan_half_y * camera.aspect;
+}
+
+bool in_camera_view(Skillset& skills, const Eigen::AlignedBox3d& box) {
+  for (int i = 0; i < 27; ++i) {
+    const Eigen::Vector3d f((i % 3) / 2.0, (i / 3 % 3) / 2.0, (i / 9) / 2.0);
+    const Eigen::Vector3d p = box.min() + f.cwiseProduct(box.max() - box.min());
+    if (in_camera_view(skills, p)) return true;
+  }
+  return false;
+}
+
+namespace {
+
+// Recursive descent over: call := name '(' [arg {',' arg}] ')'; arg := call | word.
+class ConditionParser {
+ public:
+  explicit ConditionParser(const std::string& text) : text_(text) {}
+
+  ConditionPtr parse() {
+    ConditionPtr c = call();
+    skip_space();
+    if (pos_ != text_.size()) error("unexpected '" + text_.substr(pos_) + "' after the condition");
+    return c;
+  }
+
+ private:
+  struct Arg {
+    std::string word;    // a name or number
+    ConditionPtr inner;  // a nested condition
+  };
+
+  [[noreturn]] void error(const std::string& what) const {
+    throw std::invalid_argument("condition '" + text_ + "': " + what);
+  }
+  void skip_space() {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+  }
+  std::string word() {
+    skip_space();
+    const size_t start = pos_;
+    while (pos_ < text_.size() &&
+           (std::isalnum(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_' ||
+            text_[pos_] == '.' || text_[pos_] == '-' || text_[pos_] == '$')) {
+      ++pos_;
+    }
+    if (pos_ == start) {
+      error(pos_ < text_.size() ? "expected a name at '" + text_.substr(pos_) + "'"
+                                : "expected a name at the end");
+    }
+    return text_.substr(start, pos_ - start);
+  }
+  bool peek(char c) {
+    skip_space();
+    return pos_ < text_.size() && text_[pos_] == c;
+  }
+  void expect(char c) {
+    if (!peek(c)) error(std::string("expected '") + c + "' at position " + std::to_string(pos_));
+    ++pos_;
+  }
+  ConditionPtr call() {
+    const std::string name = word();
+    expect('(');
+    std::vector<Arg> args;
+    if (!peek(')')) {
+      do {
+        args.push_back(arg());
+      } while (peek(',') && (++pos_, true));
+    }
+    expect(')');
+    return make(name, args);
+  }
+  Arg arg() {
+    const size_t start = pos_;
+    const std::string w = word();
+    if (peek('(')) {
+      pos_ = start;
+      return Arg{"", call()};
+    }
+    return Arg{w, nullptr};
+  }
+  std::string name_arg(const std::string& f, const std::vector<Arg>& args, size_t i) {
+    if (args[i].inner) error(f + ": argument " + std::to_string(i + 1) + " must be a name");
+    return args[i].word;
+  }
+  double number_arg(const std::string& f, const std::vector<Arg>& args, size_t i) {
+    const std::string w = name_arg(f, args, i);
+    try {
+      size_t used = 0;
+      const double v = std::stod(w, &used);
+      if (used == w.size() && std::isfinite(v) && v >= 0) return v;
+    } catch (const std::exception&) {
+    }
+    error(f + ": argument " + std::to_string(i + 1) + " must be a non-negative number, not '" + w +
+          "'");
+  }
+  void arity(const std::string& f, const std::vector<Arg>& args, size_t lo, size_t hi) {
+    if (args.size() < lo || args.size() > hi) {
+      error(f + " takes " + std::to_string(lo) +
+            (hi == lo ? "" : hi > 99 ? " or more" : " to " + std::to_string(hi)) + " argument" +
+            (lo == 1 && hi == 1 ? "" : "s") + ", not " + std::to_string(args.size()));
+    }
+  }
+  ConditionPtr make(const std::string& f, const std::vector<Arg>& args) {
+    if (f == "near") {
+      arity(f, args, 2, 3);
+      return near(name_arg(f, args, 0), name_arg(f, args, 1),
+                  args.size() == 3 ? number_arg(f, args, 2) : 0.10);
+    }
+    if (f == "above") {
+      arity(f, args, 2, 2);
+      return above(name_arg(f, args, 0), name_arg(f, args, 1));
+    }
+    if (f == "postural") {
+      arity(f, args, 1, 1000);
+      std::vector<std::string> chains;
+      for (size_t i = 1; i < args.size(); ++i) chains.push_back(name_arg(f, args, i));
+      return postural(name_arg(f, args, 0), chains);
+    }
+    if (f == "grasping") {
+      arity(f, args, 1, 1);
+      return grasping(name_arg(f, args, 0));
+    }
+    if (f == "graspable") {
+      arity(f, args, 1, 2);
+      return graspable(name_arg(f, args, 0), args.size() == 2 ? name_arg(f, args, 1) : "any");
+    }
+    if (f == "in_view") {
+      arity(f, args, 1, 1);
+      return in_view(name_arg(f, args, 0));
+    }
+    if (f == "exists") {
+      arity(f, args, 1, 1);
+      return exists(name_arg(f, args, 0));
+    }
+    if (f == "not" || f == "all_of" || f == "any_of") {
+      arity(f, args, 1, f == "not" ? 1 : 1000);
+      std::vector<ConditionPtr> inner;
+      for (size_t i = 0; i < args.size(); ++i) {
+        if (!args[i].inner) error(f + ": argument " + std::to_string(i + 1) + " must be a condition");
+        inner.push_back(args[i].inner);
+      }
+      if (f == "not") return negate(inner[0]);
+      return f == "all_of" ? all_of(inner) : any_of(inner);
+    }
+    error("unknown condition '" + f +
+          "' (known: near, above, postural, grasping, graspable, in_view, exists, not, all_of, "
+          "any_of)");
+  }
+
+  const std::string& text_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+ConditionPtr parse_condition(const std::string& text) { return ConditionParser(text).parse(); }
 
 double box_distance(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
   Eigen::Vector3d gap = Eigen::Vector3d::Zero();

@@ -12,7 +12,15 @@
 //   grasping(A)           A is held by a hand (attached through the skillset)
 //   graspable(A, side)    A is known, not held, and the palm of `side` ("left", "right" or
 //                         "any") is within 3 cm of A's grasp point (PerceivedObject::grasp_point)
-// An object the perceptual model does not know makes near/above/graspable false.
+//   in_view(A)            part of A's box is inside the head camera's field of view and the
+//                         sensor's range: one of 27 points (corners, edge and face centres,
+//                         centre) is (nothing about occlusion)
+//   exists(T)             the perceptual model knows an object of type T ("debris", ...)
+// An object the perceptual model does not know makes near/above/graspable/in_view false.
+//
+// Text form (scenario success criteria, state-machine guards and invariants), parsed by
+// parse_condition: the names above as calls, with not/all_of/any_of for composition, e.g.
+//   all_of(above(cup, side_surface), near(cup, side_surface, 0.1), not(grasping(cup)))
 #pragma once
 
 #include <memory>
@@ -56,9 +64,20 @@ ConditionPtr postural(std::string posture, std::vector<std::string> chains = {},
                       double tolerance = 0.05);
 ConditionPtr grasping(std::string object);
 ConditionPtr graspable(std::string object, std::string side = "any");
+ConditionPtr in_view(std::string object);
+ConditionPtr exists(std::string type);
 ConditionPtr all_of(std::vector<ConditionPtr> conditions);
 ConditionPtr any_of(std::vector<ConditionPtr> conditions);
 ConditionPtr negate(ConditionPtr condition);
+
+// Parses the text form. Throws std::invalid_argument naming the position and what was
+// expected ("condition 'near(cup)': near takes 2 or 3 arguments").
+ConditionPtr parse_condition(const std::string& text);
+
+// Whether `point` (world) is inside the head camera's field of view and range now; for a box,
+// whether one of its 27 corner, edge-centre, face-centre and centre points is.
+bool in_camera_view(Skillset& skills, const Eigen::Vector3d& point);
+bool in_camera_view(Skillset& skills, const Eigen::AlignedBox3d& box);
 
 // Up to `count` boxes for `object` satisfying `condition`, from at most `max_draws` draws.
 std::vector<Eigen::AlignedBox3d> sample_placements(const Condition& condition, const World& world,

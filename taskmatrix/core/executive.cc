@@ -16,6 +16,7 @@ struct Executive::Instance {
   bool running = false;
   bool started = false;
   std::optional<Message> outcome;
+  std::map<std::string, size_t> series;  // name -> index into Executive::series_
 };
 
 class Executive::Context final : public ProgramContext {
@@ -40,6 +41,15 @@ class Executive::Context final : public ProgramContext {
     std::vector<Message> out;
     out.swap(e_.instances_.at(id_)->inbox);
     return out;
+  }
+  void record(const std::string& series, double value) override {
+    Instance& inst = *e_.instances_.at(id_);
+    auto it = inst.series.find(series);
+    if (it == inst.series.end()) {
+      e_.series_.push_back(RecordedSeries{id_, inst.name, series, {}});
+      it = inst.series.emplace(series, e_.series_.size() - 1).first;
+    }
+    e_.series_[it->second].samples.emplace_back(e_.skills_.time(), value);
   }
 
  private:
@@ -150,6 +160,7 @@ void Executive::finish(int id, MessageType type, const std::string& reason) {
     if (it != chain_holder_.end() && it->second == id) chain_holder_.erase(it);
   }
   emit(id, type, reason);
+  refresh_percepts_ = true;
   inst.running = false;
   inst.outcome = log_.back();
 }
@@ -164,7 +175,8 @@ void Executive::halt(int id) {
 }
 
 void Executive::tick() {
-  if (skills_.time() >= next_perception_ - 1e-12) perceive();
+  if (refresh_percepts_ || skills_.time() >= next_perception_ - 1e-12) perceive();
+  refresh_percepts_ = false;
   std::vector<int> ids;
   for (const auto& [id, inst] : instances_) {
     if (inst->running) ids.push_back(id);
@@ -213,6 +225,14 @@ const Message* Executive::outcome(int id) const {
   const auto it = instances_.find(id);
   if (it == instances_.end() || !it->second->outcome) return nullptr;
   return &*it->second->outcome;
+}
+
+const RecordedSeries* Executive::find_series(const std::string& program,
+                                             const std::string& name) const {
+  for (const RecordedSeries& s : series_) {
+    if (s.program == program && s.name == name) return &s;
+  }
+  return nullptr;
 }
 
 int Executive::holder_of_chain(const std::string& chain) const {

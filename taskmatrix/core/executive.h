@@ -6,6 +6,9 @@
 // disjoint chains run concurrently. Rule for conflicts: a program whose chains are held by
 // another running program is refused; it fails at once with reason
 // "chains_busy: <chain> held by <program>#<id>", and the running program is not disturbed.
+// Perception: the model is updated at the perception rate, and also at the start of the tick
+// after any program ends, so that decisions taken on its final message (a state machine's
+// guards) see the world as that program left it.
 // Forced termination (halt) stops a program's children first, holds its chains where they
 // are, frees them, and reports "halted".
 #pragma once
@@ -19,6 +22,14 @@
 #include "taskmatrix/core/task_program.h"
 
 namespace taskmatrix::core {
+
+// A time series a program recorded (ProgramContext::record).
+struct RecordedSeries {
+  int instance = -1;
+  std::string program;  // the instance's program type
+  std::string name;
+  std::vector<std::pair<double, double>> samples;  // (simulated time, value)
+};
 
 struct ExecutiveOptions {
   double perception_rate_hz = 10.0;
@@ -52,6 +63,10 @@ class Executive {
   // The final message of an ended program (completed, failed or halted); null while it runs.
   const Message* outcome(int id) const;
   const std::vector<Message>& log() const { return log_; }
+  // Every series recorded so far, in order of first sample.
+  const std::vector<RecordedSeries>& series() const { return series_; }
+  // The series `name` of the first instance of `program` that recorded one; null if none.
+  const RecordedSeries* find_series(const std::string& program, const std::string& name) const;
   int holder_of_chain(const std::string& chain) const;  // -1 if free
   PerceptualModel& percepts() { return percepts_; }
   const ProgramRegistry& registry() const { return registry_; }
@@ -76,6 +91,8 @@ class Executive {
   std::map<int, std::unique_ptr<Instance>> instances_;
   std::map<std::string, int> chain_holder_;
   std::vector<Message> log_;
+  std::vector<RecordedSeries> series_;
+  bool refresh_percepts_ = false;  // a program ended: perceive before the next steps
   int next_id_ = 1;
   std::uint64_t seed_counter_ = 0;
   double next_perception_ = 0;

@@ -45,8 +45,8 @@ struct PlanOptions {
   unsigned max_iterations = 0;       // > 0: also stop after this many planner iterations
   double simplify_time_s = 0.25;     // bound on simplification; 0 skips it
   double motion_resolution = 0.005;  // fraction of the space's extent between checked states
-  // Distance paths keep from obstacles, except near the start and goals (which may be closer):
-  // room for the execution's tracking error. 0: paths may touch.
+  // Distance paths keep from obstacles (not from the floor), except near the start and goals
+  // (which may be closer): room for the execution's tracking error. 0: paths may touch.
   double clearance_m = 0.01;
   std::uint32_t seed = 1;  // > 0
 };

@@ -79,6 +79,23 @@ struct ExecutionReport {
   bool success() const { return status == ExecutionStatus::kCompleted; }
 };
 
+// The head camera, for programs that point it (fixate) or reason about what it sees
+// (in_view, explore). Convention: the camera looks along the -z axis of its frame, with +y up
+// in the image (as MuJoCo and OpenGL cameras do).
+struct CameraInfo {
+  std::string frame;       // frame_pose(frame) is the camera's pose
+  double fovy_rad = 0;     // vertical field of view
+  double aspect = 4.0 / 3;  // image width / height of the head sensor
+  double range_m = 0;      // depth range of the head sensor
+};
+
+// One depth capture of the head sensor: where its rays ended, in the world frame.
+struct DepthScan {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the camera's position
+  std::vector<Eigen::Vector3d> hits;                 // rays that hit something within range
+  int rays = 0;                                      // rays cast
+};
+
 // What one control period of simulation did.
 struct StepReport {
   bool unstable = false;
@@ -158,6 +175,11 @@ class Skillset {
   // then lets the chains settle. Other chains keep their current targets.
   ExecutionReport execute(const std::vector<std::string>& chain_names, const Trajectory& trajectory,
                           const ExecutionOptions& options = {});
+
+  // ---- The head sensor.
+  virtual CameraInfo head_camera() const = 0;
+  // Casts the head sensor's rays in the current simulated state.
+  virtual DepthScan scan_depth() = 0;
 
   // ---- Attachment of grasped objects.
   // From now on `object` moves rigidly with the hand of `side` ("left"/"right") and is part

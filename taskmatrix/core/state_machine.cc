@@ -1,6 +1,7 @@
 #include "taskmatrix/core/state_machine.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <set>
 #include <stdexcept>
@@ -49,6 +50,48 @@ RawParams substitute(const RawParams& raw, const Params& machine_params) {
     }
   }
   return out;
+}
+
+// Replaces "$name" references inside a condition's text.
+std::string substitute_condition(const std::string& text, const Params& machine_params) {
+  std::string out;
+  for (size_t i = 0; i < text.size();) {
+    if (text[i] != '$') {
+      out += text[i++];
+      continue;
+    }
+    size_t end = i + 1;
+    while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
+                                 text[end] == '_')) {
+      ++end;
+    }
+    out += param_text(machine_params.values().at(text.substr(i + 1, end - i - 1)));
+    i = end;
+  }
+  return out;
+}
+
+// Checks a condition's text and its "$x" references (which must name string parameters).
+void check_condition(const MachineSpec& spec, const std::string& text, const std::string& where) {
+  std::map<std::string, ParamValue> placeholders;
+  for (const ParamSpec& p : spec.params) placeholders[p.name] = std::string("x");
+  for (size_t i = text.find('$'); i != std::string::npos; i = text.find('$', i + 1)) {
+    size_t end = i + 1;
+    while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
+                                 text[end] == '_')) {
+      ++end;
+    }
+    const std::string ref = text.substr(i + 1, end - i - 1);
+    if (!placeholders.count(ref)) {
+      throw std::invalid_argument(where + ": condition '" + text + "' refers to $" + ref +
+                                  ", which machine '" + spec.name + "' does not declare");
+    }
+  }
+  try {
+    parse_condition(substitute_condition(text, Params(placeholders)));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(where + ": " + e.what());
+  }
 }
 
 // Checks a program's parameters as far as they are known before the machine's own are:
@@ -113,20 +156,43 @@ class StateMachineProgram final : public TaskProgram {
   }
 
   ProgramState step(ProgramContext& ctx) override {
-    for (const Message& m : ctx.take_inbox()) {
+    std::vector<Message> inbox = ctx.take_inbox();
+    if (!done_ && invariant_ && current_child_ >= 0 && !invariant_->holds(ctx.world())) {
+      // The state's program is stopped and the state fails as if the program had failed.
+      const int child = current_child_;
+      current_child_ = -1;
+      ctx.halt_child(child);
+      for (Message& m : ctx.take_inbox()) inbox.push_back(std::move(m));
+      // The child's own messages (its "halted") are superseded by this failure.
+      Message failed;
+      failed.time = ctx.time();
+      failed.sender = kInvariantSender;
+      failed.type = MessageType::kFailed;
+      failed.reason = "invariant_false: " + invariant_->describe() + " (state " + current_ + ")";
+      inbox.push_back(failed);
+    }
+    for (const Message& m : inbox) {
       if (done_) break;
       std::string source;
       if (m.sender == current_child_) source = current_;
+      if (m.sender == kInvariantSender) source = current_;
       for (const auto& [name, id] : concurrent_ids_) {
         if (id == m.sender) source = name;
       }
       if (source.empty()) continue;  // an old child's late message
       const MachineTransition* t = nullptr;
+      std::string guards_false;
       for (const MachineTransition& tr : spec_.transitions) {
-        if (tr.from == source && tr.on == m.type) {
-          t = &tr;
-          break;
+        if (tr.from != source || tr.on != m.type) continue;
+        if (!tr.when.empty()) {
+          const ConditionPtr guard = parse_condition(substitute_condition(tr.when, params_));
+          if (!guard->holds(ctx.world())) {
+            guards_false += (guards_false.empty() ? "" : ", ") + guard->describe();
+            continue;
+          }
         }
+        t = &tr;
+        break;
       }
       const bool terminal = m.type == MessageType::kCompleted || m.type == MessageType::kFailed ||
                             m.type == MessageType::kHalted;
@@ -134,6 +200,12 @@ class StateMachineProgram final : public TaskProgram {
         if (source == current_ && terminal) {
           // No transition for a failure: the machine fails with the state's reason.
           current_child_ = -1;
+          if (!guards_false.empty()) {
+            stop_concurrent(ctx);
+            return fail("no_transition: " + current_ + " " + to_string(m.type) +
+                        " and no guard holds (" + guards_false + ")");
+          }
+          stop_concurrent(ctx);
           return fail(m.type == MessageType::kFailed ? m.reason
                                                      : current_ + " " + to_string(m.type));
         }
@@ -150,13 +222,17 @@ class StateMachineProgram final : public TaskProgram {
       if (!t->to.empty()) enter(ctx, t->to);
     }
     if (!done_) return ProgramState::kRunning;
-    for (const auto& [name, id] : concurrent_ids_) ctx.halt_child(id);
-    concurrent_ids_.clear();
+    stop_concurrent(ctx);
     if (success_) return ProgramState::kCompleted;
     return fail(last_reason_.empty() ? "final state " + current_ : last_reason_);
   }
 
  private:
+  void stop_concurrent(ProgramContext& ctx) {
+    for (const auto& [name, id] : concurrent_ids_) ctx.halt_child(id);
+    concurrent_ids_.clear();
+  }
+
   void start_concurrent(ProgramContext& ctx, const ConcurrentProgram& c) {
     const auto running = concurrent_ids_.find(c.name);
     if (running != concurrent_ids_.end()) ctx.halt_child(running->second);
@@ -168,6 +244,9 @@ class StateMachineProgram final : public TaskProgram {
     current_child_ = -1;
     current_ = state;
     const MachineState& s = *find_state(spec_, state);
+    invariant_ = s.invariant.empty()
+                     ? nullptr
+                     : parse_condition(substitute_condition(s.invariant, params_));
     if (s.final) {
       done_ = true;
       success_ = s.success;
@@ -184,6 +263,8 @@ class StateMachineProgram final : public TaskProgram {
   std::map<std::string, int> concurrent_ids_;
   bool done_ = false, success_ = false;
   std::string last_reason_;
+  ConditionPtr invariant_;  // of the current state
+  static constexpr int kInvariantSender = -2;
 };
 
 }  // namespace
@@ -205,6 +286,8 @@ void check_machine(const MachineSpec& spec, const ProgramRegistry& registry) {
       throw std::invalid_argument(m + ": state '" + s.name + "' runs the machine itself");
     }
     check_program_params(spec, registry, s.program, s.params, m + ", state '" + s.name + "'");
+    if (!s.invariant.empty())
+      check_condition(spec, s.invariant, m + ", state '" + s.name + "' invariant");
   }
   for (const ConcurrentProgram& c : spec.concurrent) {
     if (names.count(c.name))
@@ -225,6 +308,7 @@ void check_machine(const MachineSpec& spec, const ProgramRegistry& registry) {
     if (from && from->final) throw std::invalid_argument(where + ": leaves a final state");
     if (!t.to.empty() && !find_state(spec, t.to))
       throw std::invalid_argument(where + ": target '" + t.to + "' is not a state");
+    if (!t.when.empty()) check_condition(spec, t.when, where + " guard");
     for (const std::string& c : t.start)
       if (!find_concurrent(spec, c))
         throw std::invalid_argument(where + ": starts unknown concurrent program '" + c + "'");

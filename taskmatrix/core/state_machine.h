@@ -4,6 +4,12 @@
 // states end the machine with success or failure. A machine is itself a task program, so
 // machines nest: register a MachineSpec and use its name as any state's program.
 //
+// Guards and invariants: a transition may carry a condition (`when`, in parse_condition's
+// text form) and fires only if it holds when its message arrives; of several transitions for
+// the same message, the first whose guard holds fires. A state may carry an `invariant`,
+// checked every step while its program runs: when it stops holding, the program is halted
+// and the state fails with "invariant_false: <condition>". Conditions may use "$name".
+//
 // Parameters: a machine declares typed parameters; state parameters may refer to them as
 // "$name". Everything is checked when the machine is registered, before anything runs.
 // A state's program failing with no transition for `failed` fails the machine with the
@@ -23,6 +29,7 @@ struct MachineState {
   RawParams params;
   bool final = false;
   bool success = true;  // for final states
+  std::string invariant;  // a condition that must hold while the state runs; empty: none
 };
 
 struct MachineTransition {
@@ -31,6 +38,7 @@ struct MachineTransition {
   std::string to;                  // a state; empty: stay (only start/stop)
   std::vector<std::string> start;  // concurrent programs to (re)start
   std::vector<std::string> stop;   // concurrent programs to halt
+  std::string when;                // a guard condition; empty: always
 };
 
 struct ConcurrentProgram {

@@ -99,6 +99,9 @@ class ProgramContext {
   virtual int start_child(const std::string& program, const RawParams& params) = 0;
   virtual void halt_child(int id) = 0;
   virtual std::vector<Message> take_inbox() = 0;
+  // Appends (time(), value) to this program instance's time series `series` (tracking error,
+  // coverage, ...), kept by the executive for the run's results.
+  virtual void record(const std::string& series, double value) = 0;
 };
 
 // What a program may consider when it chooses its chains (before it starts).

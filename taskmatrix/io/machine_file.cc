@@ -85,7 +85,7 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
     }
   }
   for (const auto& [name, node] : root.required("states").entries()) {
-    node.expect_keys({"program", "params", "final"});
+    node.expect_keys({"program", "params", "final", "invariant"});
     core::MachineState s;
     s.name = name;
     if (auto final = node.optional("final")) {
@@ -97,6 +97,7 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
     } else {
       s.program = node.required("program").as_string();
       s.params = read_params(node.optional("params"));
+      s.invariant = node.get_string("invariant", "");
     }
     spec.states.push_back(std::move(s));
     if (lines) lines->states[name] = {node.key(), node.line()};
@@ -104,11 +105,12 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
   spec.initial = root.required("initial").as_string();
   if (auto transitions = root.optional("transitions")) {
     for (const YamlNode& node : transitions->items()) {
-      node.expect_keys({"from", "on", "to", "start", "stop"});
+      node.expect_keys({"from", "on", "to", "start", "stop", "when"});
       core::MachineTransition t;
       t.from = node.required("from").as_string();
       t.on = message(node.required("on"));
       t.to = node.get_string("to", "");
+      t.when = node.get_string("when", "");
       if (auto start = node.optional("start")) t.start = start->as_strings();
       if (auto stop = node.optional("stop")) t.stop = stop->as_strings();
       spec.transitions.push_back(std::move(t));

@@ -1,5 +1,7 @@
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "taskmatrix/mujoco/kinematics.h"
@@ -95,6 +97,7 @@ std::vector<SceneThing> scene_things(const MujocoSkillset& skills) {
   auto body_id = [&](const std::string& name) { return mj_name2id(m, mjOBJ_BODY, name.c_str()); };
   for (const auto& [name, spec] : scene.environment().objects) {
     for (const std::string& b : spec.bodies) {
+      if (skills.removed(body_id(b))) continue;  // vacuumed up
       SceneThing t;
       t.id = spec.bodies.size() == 1 ? name : b;
       t.type = type_name(spec.kind);
@@ -149,7 +152,15 @@ std::vector<core::PerceivedObject> scene_objects(const MujocoSkillset& skills, d
 }
 
 void GroundTruthPerception::update(double time, core::PerceptualModel& model) {
-  for (core::PerceivedObject& o : scene_objects(skills_, time)) model.observe(std::move(o));
+  std::vector<core::PerceivedObject> now = scene_objects(skills_, time);
+  // What is no longer in the world (vacuumed debris, obstacles of an old layout) is forgotten.
+  std::vector<std::string> gone;
+  for (const auto& [id, o] : model.objects()) {
+    if (std::none_of(now.begin(), now.end(), [&](const auto& n) { return n.id == id; }))
+      gone.push_back(id);
+  }
+  for (const std::string& id : gone) model.forget(id);
+  for (core::PerceivedObject& o : now) model.observe(std::move(o));
 }
 
 }  // namespace taskmatrix::mujoco

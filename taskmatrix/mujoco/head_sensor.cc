@@ -1,5 +1,7 @@
 #include "taskmatrix/mujoco/head_sensor.h"
 
+#include "taskmatrix/core/conditions.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -136,7 +138,31 @@ SensorPerception::SensorPerception(MujocoSkillset& skills, HeadSensorOptions opt
 
 void SensorPerception::update(double time, core::PerceptualModel& model) {
   sensor_.capture();
-  for (Recognition& rec : sensor_.recognise()) {
+  std::vector<Recognition> seen = sensor_.recognise();
+  // An object the model places in plain view that the sensor did not recognise is gone (a
+  // vacuumed flake, a moved object): forgotten. "In plain view": its box centre is inside
+  // the field of view and range, and the centre's ray reaches the box unblocked.
+  std::vector<std::string> gone;
+  const Eigen::Vector3d eye = skills_.frame_pose(skills_.head_camera().frame).position;
+  for (const auto& [id, o] : model.objects()) {
+    if (std::any_of(seen.begin(), seen.end(), [&](const Recognition& r) {
+          return sensor_.things()[r.thing].id == id;
+        })) {
+      continue;
+    }
+    const Eigen::Vector3d centre = o.box.center();
+    if (!core::in_camera_view(skills_, centre)) continue;
+    const Eigen::Vector3d to = centre - eye;
+    mjtNum from[3] = {eye.x(), eye.y(), eye.z()}, dir[3] = {to.x(), to.y(), to.z()};
+    int geom = -1;
+    const mjtByte groups[mjNGROUP] = {1, 1, 1, 0, 0, 0};  // as the sensor's rays
+    const double hit = mj_ray(skills_.model(), skills_.sim_data(), from, dir, groups, 1,
+                              skills_.model()->cam_bodyid[skills_.scene().head_camera()], &geom);
+    const double entry = ray_box_entry(eye, to.normalized(), o.box) / to.norm();
+    if (hit < 0 || hit >= entry - 1e-6) gone.push_back(id);
+  }
+  for (const std::string& id : gone) model.forget(id);
+  for (Recognition& rec : seen) {
     const SceneThing& thing = sensor_.things()[rec.thing];
     rec.object.last_seen = time;
     rec.object.confidence = rec.confidence();

@@ -14,10 +14,12 @@ namespace taskmatrix::mujoco {
 
 core::Pose frame_pose(const mjData* d, FrameRef frame) {
   core::Pose pose;
-  const double* pos =
-      frame.kind == FrameRef::Kind::kSite ? d->site_xpos + 3 * frame.id : d->xpos + 3 * frame.id;
-  const double* mat =
-      frame.kind == FrameRef::Kind::kSite ? d->site_xmat + 9 * frame.id : d->xmat + 9 * frame.id;
+  const double* pos = frame.kind == FrameRef::Kind::kSite   ? d->site_xpos + 3 * frame.id
+                      : frame.kind == FrameRef::Kind::kBody ? d->xpos + 3 * frame.id
+                                                            : d->cam_xpos + 3 * frame.id;
+  const double* mat = frame.kind == FrameRef::Kind::kSite   ? d->site_xmat + 9 * frame.id
+                      : frame.kind == FrameRef::Kind::kBody ? d->xmat + 9 * frame.id
+                                                            : d->cam_xmat + 9 * frame.id;
   pose.position = Eigen::Vector3d(pos[0], pos[1], pos[2]);
   Eigen::Matrix3d r;
   r << mat[0], mat[1], mat[2], mat[3], mat[4], mat[5], mat[6], mat[7], mat[8];
@@ -42,6 +44,12 @@ BodyFrame resolve_frame(const Scene& scene, const mjData* d, const std::string& 
     frame.body = m->site_bodyid[ref.id];
     const double* p = m->site_pos + 3 * ref.id;
     const double* q = m->site_quat + 4 * ref.id;
+    frame.offset.position = Eigen::Vector3d(p[0], p[1], p[2]);
+    frame.offset.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+  } else if (ref.kind == FrameRef::Kind::kCamera) {
+    frame.body = m->cam_bodyid[ref.id];
+    const double* p = m->cam_pos + 3 * ref.id;
+    const double* q = m->cam_quat + 4 * ref.id;
     frame.offset.position = Eigen::Vector3d(p[0], p[1], p[2]);
     frame.offset.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
   } else {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "taskmatrix/mujoco/head_sensor.h"
 #include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/motion_planner.h"
 
@@ -63,7 +64,131 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
   target_acc_.assign(m->njnt, 0.0);
   acc_full_.assign(m->nv, 0.0);
   mass_times_acc_.assign(m->nv, 0.0);
+  for (const auto& [name, spec] : scene_->environment().objects) {
+    for (const std::string& b : spec.bodies) {
+      const int body = mj_name2id(m, mjOBJ_BODY, b.c_str());
+      if (spec.kind == core::ObjectKind::kDebris) {
+        debris_.push_back({body, Eigen::Vector3d(m->body_pos[3 * body], m->body_pos[3 * body + 1],
+                                                 m->body_pos[3 * body + 2])});
+      }
+      if (spec.kind == core::ObjectKind::kTool && !spec.tip_site.empty()) {
+        tool_tips_.push_back(body);
+        tool_tips_.push_back(mj_name2id(m, mjOBJ_SITE, spec.tip_site.c_str()));
+      }
+    }
+  }
   reset();
+}
+
+MujocoSkillset::~MujocoSkillset() = default;
+
+void MujocoSkillset::set_visitor_walk(double speed_mps) {
+  if (!(std::isfinite(speed_mps) && speed_mps >= 0)) {
+    throw std::invalid_argument("visitor walking speed must be a non-negative number of m/s");
+  }
+  const mjModel* m = worker_.model();
+  const core::VisitorSpec& v = scene_->environment().visitor;
+  const std::string where = "environment " + scene_->environment().name + ": the visitor ";
+  if (v.path.size() < 2) throw std::invalid_argument(where + "needs a path of two or more points");
+  const int body = mj_name2id(m, mjOBJ_BODY, v.body.c_str());
+  const int types[3] = {mjJNT_SLIDE, mjJNT_SLIDE, mjJNT_HINGE};
+  if (body < 0 || m->body_jntnum[body] != 3) {
+    throw std::invalid_argument(where + "body must have three joints (slide x, slide y, hinge z)");
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int j = m->body_jntadr[body] + k;
+    if (m->jnt_type[j] != types[k] || m->jnt_axis[3 * j + (k == 1 ? 1 : k == 0 ? 0 : 2)] < 0.99) {
+      throw std::invalid_argument(where +
+                                  "body must have three joints (slide x, slide y, hinge z)");
+    }
+    visitor_qpos_[k] = m->jnt_qposadr[j];
+    visitor_dof_[k] = m->jnt_dofadr[j];
+  }
+  visitor_speed_ = speed_mps;
+}
+
+void MujocoSkillset::drive_visitor(mjData* d, double time) const {
+  if (visitor_speed_ <= 0) return;
+  const auto& path = scene_->environment().visitor.path;
+  // Arc length along the path, there and back again.
+  std::vector<double> at{0};
+  for (size_t i = 1; i < path.size(); ++i) {
+    at.push_back(at.back() + std::hypot(path[i][0] - path[i - 1][0], path[i][1] - path[i - 1][1]));
+  }
+  const double length = at.back();
+  if (length <= 0) return;
+  double s = std::fmod(visitor_speed_ * time, 2 * length);
+  const bool back = s > length;
+  if (back) s = 2 * length - s;
+  size_t i = 1;
+  while (i + 1 < at.size() && at[i] < s) ++i;
+  const double seg = at[i] - at[i - 1];
+  const double f = seg > 0 ? (s - at[i - 1]) / seg : 0;
+  double dx = path[i][0] - path[i - 1][0], dy = path[i][1] - path[i - 1][1];
+  const double x = path[i - 1][0] + f * dx, y = path[i - 1][1] + f * dy;
+  if (back) dx = -dx, dy = -dy;
+  const double norm = std::hypot(dx, dy);
+  // Joint values are offsets from the first waypoint; heading = pi + yaw (facing -x at 0).
+  d->qpos[visitor_qpos_[0]] = x - path[0][0];
+  d->qpos[visitor_qpos_[1]] = y - path[0][1];
+  d->qpos[visitor_qpos_[2]] = std::remainder(std::atan2(dy, dx) - M_PI, 2 * M_PI);
+  d->qvel[visitor_dof_[0]] = visitor_speed_ * dx / norm;
+  d->qvel[visitor_dof_[1]] = visitor_speed_ * dy / norm;
+  d->qvel[visitor_dof_[2]] = 0;
+}
+
+bool MujocoSkillset::removed(int body) const {
+  return std::find(removed_debris_.begin(), removed_debris_.end(), body) != removed_debris_.end();
+}
+
+void MujocoSkillset::collect_debris() {
+  if (attachments_.empty()) return;
+  mjModel* m = worker_.model();
+  const mjData* d = worker_.data();
+  bool any = false;
+  for (size_t k = 0; k < tool_tips_.size(); k += 2) {
+    const int tool = tool_tips_[k], tip = tool_tips_[k + 1];
+    if (std::none_of(attachments_.begin(), attachments_.end(),
+                     [&](const Attachment& a) { return a.body == tool; })) {
+      continue;
+    }
+    const Eigen::Vector3d p(d->site_xpos[3 * tip], d->site_xpos[3 * tip + 1],
+                            d->site_xpos[3 * tip + 2]);
+    for (const Debris& flake : debris_) {
+      if (removed(flake.body)) continue;
+      const double* c = d->xpos + 3 * flake.body;
+      const double up = p.z() - c[2];
+      if (std::hypot(p.x() - c[0], p.y() - c[1]) <= kDebrisPickupRadius && up >= -0.01 &&
+          up <= kDebrisPickupHeight) {
+        m->body_pos[3 * flake.body + 2] = flake.pos.z() - 10.0;  // out of the world
+        removed_debris_.push_back(flake.body);
+        any = true;
+      }
+    }
+  }
+  if (any) mj_forward(m, worker_.data());
+}
+
+core::CameraInfo MujocoSkillset::head_camera() const {
+  const HeadSensorOptions sensor;
+  core::CameraInfo info;
+  info.frame = profile().head_camera.name;
+  info.fovy_rad = worker_.model()->cam_fovy[scene_->head_camera()] * M_PI / 180.0;
+  info.aspect = static_cast<double>(sensor.width) / sensor.height;
+  info.range_m = sensor.range_m;
+  return info;
+}
+
+core::DepthScan MujocoSkillset::scan_depth() {
+  if (!sensor_) sensor_ = std::make_unique<HeadSensor>(*this);
+  const SensorImage& image = sensor_->capture();
+  core::DepthScan scan;
+  scan.origin = frame_pose(profile().head_camera.name).position;
+  scan.rays = image.width * image.height;
+  for (size_t i = 0; i < image.depth_m.size(); ++i) {
+    if (auto p = sensor_->hit_point(i)) scan.hits.push_back(*p);
+  }
+  return scan;
 }
 
 void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
@@ -130,6 +255,10 @@ void MujocoSkillset::require_no_query(const char* what) const {
 
 void MujocoSkillset::reset() {
   require_no_query("reset");
+  for (const Debris& flake : debris_) {
+    for (int i = 0; i < 3; ++i) worker_.model()->body_pos[3 * flake.body + i] = flake.pos[i];
+  }
+  removed_debris_.clear();
   worker_.reset_to_start();
   forget_obstacles();
   attachments_.clear();
@@ -504,12 +633,14 @@ core::StepReport MujocoSkillset::advance() {
       d->qfrc_applied[v] =
           d->qfrc_bias[v] + mass_times_acc_[v] + m->dof_damping[v] * target_vel_[js.joint];
     }
+    drive_visitor(d, d->time);
     if (!attachments_.empty()) {
       mj_kinematics(m, d);
       place_attachments(m, d, attachments_);
     }
     mj_step(m, d);
   }
+  drive_visitor(d, d->time);
   for (const JointState& js : joint_state_) {
     if (js.joint >= 0) d->ctrl[js.actuator] = target_pos_[js.joint];
   }
@@ -518,6 +649,7 @@ core::StepReport MujocoSkillset::advance() {
     place_attachments(m, d, attachments_);
   }
   mj_forward(m, d);
+  collect_debris();
   const int bad_after = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
                         d->warning[mjWARN_BADQPOS].number;
   bool finite = true;

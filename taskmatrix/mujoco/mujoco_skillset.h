@@ -10,6 +10,14 @@
 // so tracking error reflects the trajectory and the gains, not gravity. Held objects are
 // moved kinematically with their holder before every substep.
 //
+// The world's own behaviour, beyond physics:
+//   - The visitor walks its environment path back and forth at set_visitor_walk's speed,
+//     facing where it goes (driven kinematically; 0, the default, leaves it standing).
+//   - A debris flake is removed (moved out of the world) when the tip of a held tool passes
+//     over it: tip within kDebrisPickupRadius of its centre horizontally and at most
+//     kDebrisPickupHeight above it.
+//   Both restart with reset().
+//
 // What queries know of obstacles: in ground-truth perception every obstacle of the layout;
 // in sensor perception (set_obstacles_need_perception) only the obstacle slots marked
 // perceived. Queries leave the others out (their collision bits are cleared on the worker's
@@ -17,6 +25,7 @@
 // through an unseen one ends in a collision during execution.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,6 +37,11 @@
 
 namespace taskmatrix::mujoco {
 
+class HeadSensor;
+
+inline constexpr double kDebrisPickupRadius = 0.035;  // m, horizontal, tip to flake centre
+inline constexpr double kDebrisPickupHeight = 0.06;   // m, tip above the flake's centre
+
 struct SimulationOptions {
   double control_rate_hz = 100.0;  // rounded to a whole number of model timesteps per period
 };
@@ -36,6 +50,7 @@ class MujocoSkillset final : public core::Skillset {
  public:
   // Throws std::invalid_argument for a control rate that is not positive and finite.
   MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOptions options = {});
+  ~MujocoSkillset() override;
 
   // Backend set-up, for the harness: obstacles of a layout, and the start state (robot at the
   // environment's start in the rest posture, targets there, time 0, nothing attached).
@@ -53,6 +68,13 @@ class MujocoSkillset final : public core::Skillset {
   // trial's initial state, not motion. Throws std::invalid_argument like command().
   void set_configuration(const std::vector<std::string>& chain_names,
                          const std::vector<double>& values);
+  // The visitor's walking speed along its path (m/s, >= 0); from the next control period.
+  // Throws std::invalid_argument for a negative or non-finite speed, or an environment whose
+  // visitor is not a (slide x, slide y, hinge) body with a path of two or more points.
+  void set_visitor_walk(double speed_mps);
+  // Debris bodies removed since the last reset, in order of removal.
+  const std::vector<int>& removed_debris() const { return removed_debris_; }
+  bool removed(int body) const;
 
   const Scene& scene() const { return *scene_; }
   const mjModel* model() const { return worker_.model(); }
@@ -94,6 +116,8 @@ class MujocoSkillset final : public core::Skillset {
   void detach(const std::string& object) override;
   std::vector<std::string> attached_objects() const override;
   std::string holder_of(const std::string& object) const override;
+  core::CameraInfo head_camera() const override;
+  core::DepthScan scan_depth() override;
   std::vector<std::string> touching(const std::string& part) const override;
 
  private:
@@ -122,6 +146,9 @@ class MujocoSkillset final : public core::Skillset {
     MujocoSkillset& s_;
   };
   void forget_obstacles();
+  // Visitor pose for the current time; debris under held tool tips.
+  void drive_visitor(mjData* d, double time) const;
+  void collect_debris();
   // Throws std::logic_error when called from inside a query (a goal sampler's callback).
   void require_no_query(const char* what) const;
   int object_body(const std::string& object) const;  // -1 if not an object's body
@@ -151,6 +178,17 @@ class MujocoSkillset final : public core::Skillset {
   double period_ = 0.01;
   int substeps_ = 5;
   double period_start_ = 0;
+  double visitor_speed_ = 0;
+  std::array<int, 3> visitor_qpos_{-1, -1, -1};  // x, y, yaw
+  std::array<int, 3> visitor_dof_{-1, -1, -1};
+  struct Debris {
+    int body;
+    Eigen::Vector3d pos;  // body_pos as compiled
+  };
+  std::vector<Debris> debris_;
+  std::vector<int> tool_tips_;  // per environment tool: (body, tip site) pairs, flattened
+  std::vector<int> removed_debris_;
+  std::unique_ptr<HeadSensor> sensor_;  // made on the first scan_depth()
 };
 
 }  // namespace taskmatrix::mujoco

@@ -338,7 +338,20 @@ FrameRef Scene::frame(std::string_view name) const {
     return {FrameRef::Kind::kSite, s};
   if (int b = mj_name2id(model_.get(), mjOBJ_BODY, n.c_str()); b >= 0)
     return {FrameRef::Kind::kBody, b};
-  throw std::out_of_range("no frame '" + n + "' in robot " + robot_.name);
+  if (int c = mj_name2id(model_.get(), mjOBJ_CAMERA, n.c_str()); c >= 0)
+    return {FrameRef::Kind::kCamera, c};
+  // Objects by symbolic name, and their named frames.
+  const size_t dot = n.find('.');
+  const auto object = environment_.objects.find(n.substr(0, dot));
+  if (object != environment_.objects.end() && object->second.bodies.size() == 1) {
+    const core::ObjectSpec& o = object->second;
+    const std::string part = dot == std::string::npos ? "" : n.substr(dot + 1);
+    const std::string* site = part == "tip" ? &o.tip_site : part == "grip" ? &o.grip_site : nullptr;
+    if (part.empty()) return frame(o.bodies.front());
+    if (site && !site->empty()) return frame(*site);
+  }
+  throw std::out_of_range("no frame '" + n + "' in robot " + robot_.name + " or environment " +
+                          environment_.name);
 }
 
 bool Scene::is_robot_body(int body) const {

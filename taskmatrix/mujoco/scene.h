@@ -26,9 +26,9 @@ struct ChainIndex {
   std::vector<double> lower, upper;
 };
 
-// A frame named in a profile: a site if one has the name, else a body.
+// A named frame: a site, a body or a camera of the model.
 struct FrameRef {
-  enum class Kind { kSite, kBody } kind = Kind::kSite;
+  enum class Kind { kSite, kBody, kCamera } kind = Kind::kSite;
   int id = -1;
 };
 
@@ -63,7 +63,9 @@ class Scene {
 
   const std::vector<ChainIndex>& chains() const { return chains_; }
   const ChainIndex& chain(std::string_view name) const;  // throws std::out_of_range
-  FrameRef frame(std::string_view name) const;           // throws std::out_of_range
+  // A site, body or camera by name; an object by its symbolic name ("cup": its body) or one of
+  // its frames ("vacuum.tip", "vacuum.grip"). Throws std::out_of_range.
+  FrameRef frame(std::string_view name) const;
   int head_camera() const { return head_camera_; }
   bool is_robot_body(int body) const;
   bool is_robot_geom(int geom) const;

@@ -99,12 +99,4 @@ core::ProgramType canned_program() {
           [](const core::Params& p) { return std::make_unique<Canned>(p); }};
 }
 
-void register_primitives(core::ProgramRegistry& registry) {
-  registry.add(reach_program());
-  registry.add(grasp_program());
-  registry.add(release_program());
-  registry.add(postural_program());
-  registry.add(canned_program());
-}
-
 }  // namespace taskmatrix::programs

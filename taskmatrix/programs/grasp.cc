@@ -33,7 +33,7 @@ class Grasp final : public core::TaskProgram {
     const core::ChainInfo& info = skills.chain(chain);
     hand_ = skills.profile().find_hand(side_);
     fist_ = skills.posture("fist").at(chain);
-    target_ = skills.configuration({chain});
+    target_ = clamped_configuration(skills, {chain});
     segment_body_.assign(info.joints.size(), "");
     for (const core::FingerSpec& f : hand_->fingers) {
       for (size_t k = 0; k < f.joints.size(); ++k) {

@@ -2,7 +2,9 @@
 // (paper: "postural"). A posture of a single limb (e.g. wave_start of the right arm) can be
 // taken by either limb: with side "any" the program mirrors it to the other limb when the
 // named one is busy or the other is already there, and otherwise picks one at random (from
-// the run's seed sequence, so a run is reproducible).
+// the run's seed sequence, so a run is reproducible). With `skip_busy`, chains of the posture
+// that other programs hold are left out (greet lowers the waving arm while the other arm may
+// be holding something).
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
 
@@ -13,12 +15,25 @@ namespace {
 class Postural final : public core::TaskProgram {
  public:
   explicit Postural(const core::Params& p)
-      : posture_(p.text("posture")), only_(p.list("chains")), side_(p.text("side")) {}
+      : posture_(p.text("posture")),
+        only_(p.list("chains")),
+        side_(p.text("side")),
+        skip_busy_(p.flag("skip_busy")) {}
 
   std::vector<std::string> chains(const core::Skillset& skills) const override {
     return target(skills).chains;
   }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
+    if (skip_busy_) {
+      std::vector<std::string> free;
+      for (const std::string& c : posture_values(ctx.skills, posture_, only_).chains) {
+        if (!ctx.busy(c)) free.push_back(c);
+      }
+      if (free.empty()) {
+        throw std::invalid_argument("every chain of posture '" + posture_ + "' is busy");
+      }
+      only_ = free;
+    }
     const ChainValues named = posture_values(ctx.skills, posture_, only_);
     choice_ = choose_limb(ctx, named, side_);
     return target(ctx.skills).chains;
@@ -51,6 +66,7 @@ class Postural final : public core::TaskProgram {
   std::string posture_;
   std::vector<std::string> only_;
   std::string side_;
+  bool skip_busy_;
   LimbChoice choice_;
   MotionStage motion_;
   std::string failure_;
@@ -74,7 +90,13 @@ core::ProgramType postural_program() {
             false,
             std::string("any"),
             {"any", "left", "right", "as_named"},
-            "for a single-limb posture: the limb to use; any: the free one, or at random"}},
+            "for a single-limb posture: the limb to use; any: the free one, or at random"},
+           {"skip_busy",
+            core::ParamType::kBool,
+            false,
+            false,
+            {},
+            "leave out the chains other programs hold"}},
           [](const core::Params& p) { return std::make_unique<Postural>(p); }};
 }
 

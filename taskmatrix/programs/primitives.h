@@ -3,13 +3,21 @@
 // from the skillset and its profile; objects come from the perceptual model.
 //
 //   reach     object, side        arm to a hand pose from which the object can be grasped
+//   position  object, frame, target | target_type | on
+//                                 a held object's frame over a target, or onto a surface
+//   fixate    object, duration    head (and base yaw) keep the object centred in the camera
+//   explore   surface | bounds    head (and base yaw) until the sensor has seen the region
 //   grasp     object, side        each finger segment closes until contact (or the fist)
 //   release   side, object        open the hand to its rest posture, letting go of the object
 //   postural  posture, chains, side   collision-free motion to a named posture
 //   canned    motion, side        a predetermined joint-space motion from the profile
 //
+// The complex programs (pickup, putdown, greet, vacuum) are state machines over these; see
+// complex.cc.
+//
 // Failure reasons start with a status: perception_miss, ik_failure, timeout, invalid_start,
-// invalid_goal, collision, tracking_error, grasp_failed, not_graspable, invalid_input.
+// invalid_goal, collision, tracking_error, grasp_failed, not_graspable, invalid_input,
+// coverage_short, invariant_false, precondition_false, chains_busy.
 #pragma once
 
 #include "taskmatrix/core/task_program.h"
@@ -21,8 +29,15 @@ core::ProgramType grasp_program();
 core::ProgramType release_program();
 core::ProgramType postural_program();
 core::ProgramType canned_program();
+core::ProgramType position_program();
+core::ProgramType fixate_program();
+core::ProgramType explore_program();
 
-// Adds every program above to `registry`.
+// Adds the eight primitives above to `registry`.
 void register_primitives(core::ProgramRegistry& registry);
+// Adds pickup, putdown, greet and vacuum (the primitives must be registered).
+void register_complex(core::ProgramRegistry& registry);
+// All twelve.
+void register_programs(core::ProgramRegistry& registry);
 
 }  // namespace taskmatrix::programs

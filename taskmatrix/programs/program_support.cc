@@ -88,6 +88,19 @@ ChainValues posture_values(const core::Skillset& skills, const std::string& post
   return out;
 }
 
+std::vector<double> clamped_configuration(const core::Skillset& skills,
+                                          const std::vector<std::string>& chains) {
+  std::vector<double> q = skills.configuration(chains);
+  size_t k = 0;
+  for (const std::string& name : chains) {
+    const core::ChainInfo& c = skills.chain(name);
+    for (size_t i = 0; i < c.lower.size() && k < q.size(); ++i, ++k) {
+      q[k] = std::clamp(q[k], c.lower[i], c.upper[i]);
+    }
+  }
+  return q;
+}
+
 double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
   double e = 0;
   for (size_t i = 0; i < a.size() && i < b.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
@@ -142,6 +155,76 @@ std::string MotionStage::plan_to_poses(core::ProgramContext& ctx,
   auto plan = std::make_shared<const core::PlanResult>(
       ctx.skills().plan_to_poses(chains, frame, poses, options, ik_options));
   return start_following(ctx, chains, std::move(plan));
+}
+
+std::string ArmMotion::reach_from_here(core::ProgramContext& ctx) {
+  std::string failure = motion_.plan_to_poses(ctx, {arm_}, frame_, poses_, ik_);
+  if (torso_ && failure.rfind("ik_failure", 0) == 0) {
+    failure = motion_.plan_to_poses(ctx, {"torso", arm_}, frame_, poses_, ik_);
+  }
+  return failure;
+}
+
+std::string ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
+                             const std::string& frame, std::vector<core::Pose> poses,
+                             const core::IkOptions& ik, bool torso, bool base) {
+  arm_ = arm;
+  frame_ = frame;
+  poses_ = std::move(poses);
+  ik_ = ik;
+  torso_ = torso;
+  stepping_ = false;
+  const std::string failure = reach_from_here(ctx);
+  if (!base || failure.rfind("ik_failure", 0) != 0) return failure;
+  // Step: a stance from which the arm reaches, found by IK over the whole body.
+  core::Skillset& skills = ctx.skills();
+  std::vector<std::string> body{"base"};
+  if (torso_) body.push_back("torso");
+  body.push_back(arm_);
+  core::IkOptions whole = ik_;
+  whole.seed = ctx.next_seed();
+  std::string why;
+  for (size_t k = 0; k < poses_.size(); ++k) {
+    const core::IkResult r = skills.solve_ik(body, frame_, poses_[k], whole);
+    if (r.solutions.empty()) {
+      if (why.empty()) why = r.reason;
+      continue;
+    }
+    // The base alone when the arm can stay as it is at the new stance; else the whole body.
+    const std::vector<double>& solution = r.solutions.front();
+    const size_t nb = skills.chain("base").joints.size();
+    std::vector<double> stance_now = skills.configuration(body);
+    std::copy(solution.begin(), solution.begin() + static_cast<long>(nb), stance_now.begin());
+    if (skills.is_valid(body, stance_now)) {
+      const std::vector<double> stance(solution.begin(), solution.begin() + static_cast<long>(nb));
+      const std::string moved = motion_.plan_to_configuration(ctx, {"base"}, stance);
+      if (!moved.empty()) return moved;
+      stepping_ = true;
+      return "";
+    }
+    return motion_.plan_to_configuration(ctx, body, solution);
+  }
+  return failure + "; stepping: no stance found (" + why + ")";
+}
+
+std::optional<std::string> ArmMotion::step(core::ProgramContext& ctx) {
+  const std::optional<std::string> result = motion_.step();
+  if (!result || !result->empty() || !stepping_) return result;
+  stepping_ = false;
+  const std::string failure = reach_from_here(ctx);
+  if (!failure.empty()) return failure;
+  return std::nullopt;
+}
+
+std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::string& arm,
+                                   bool& torso, bool& base) {
+  torso = torso && !ctx.busy("torso");
+  base = base && !ctx.busy("base");
+  std::vector<std::string> chains;
+  if (base) chains.push_back("base");
+  if (torso) chains.push_back("torso");
+  chains.push_back(arm);
+  return chains;
 }
 
 std::string MotionStage::start_following(core::ProgramContext& ctx,

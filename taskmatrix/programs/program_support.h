@@ -57,6 +57,11 @@ LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
 // Joints within this of a target count as there already (rad or m): no motion is planned.
 inline constexpr double kAlreadyThere = 0.02;
 
+// The chains' current configuration clamped to their joint limits (the simulation may rest a
+// joint a hair past a limit, which commands may not ask for).
+std::vector<double> clamped_configuration(const core::Skillset& skills,
+                                          const std::vector<std::string>& chains);
+
 // Largest |a - b| over joints.
 double max_difference(const std::vector<double>& a, const std::vector<double>& b);
 
@@ -86,6 +91,35 @@ class MotionStage {
   std::shared_ptr<const core::PlanResult> plan_;
   std::optional<core::TrajectoryFollower> follower_;
 };
+
+// Moves `frame` of an arm to one of `poses` with as little of the body as will do: the arm;
+// when IK finds no solution, torso and arm (if `torso`); then (if `base`) the robot steps:
+// IK over base, torso and arm gives a base pose from which the arm reaches, the base alone is
+// planned there and driven (locomotion through the planar base joints), and torso and arm are
+// planned from the new stance.
+class ArmMotion {
+ public:
+  // "" when moving, else the failure reason.
+  std::string start(core::ProgramContext& ctx, const std::string& arm, const std::string& frame,
+                    std::vector<core::Pose> poses, const core::IkOptions& ik, bool torso,
+                    bool base);
+  // As MotionStage::step.
+  std::optional<std::string> step(core::ProgramContext& ctx);
+  MotionStage& stage() { return motion_; }
+
+ private:
+  std::string reach_from_here(core::ProgramContext& ctx);
+  MotionStage motion_;
+  std::string arm_, frame_;
+  std::vector<core::Pose> poses_;
+  core::IkOptions ik_;
+  bool torso_ = false;
+  bool stepping_ = false;  // the base is moving; the arm follows
+};
+
+// The chains an arm program claims: the arm, and the torso and base when allowed and free.
+std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::string& arm,
+                                   bool& torso, bool& base);
 
 // "<status>: <message>" for a failed plan.
 std::string plan_failure_reason(const core::PlanResult& plan);

@@ -4,7 +4,8 @@
 // axis horizontal, then vertical) and from above, at two stand-off distances. Each is tried
 // in turn (IK, then planning) and the first plan found is executed. When the arm alone
 // cannot reach any of them (IK fails) and the torso is free, the torso and arm are planned
-// together (a tall robot bends over a table). Exits at once when the object is already
+// together (a tall robot bends over a table); failing that, base, torso and arm (the robot
+// steps over). Exits at once when the object is already
 // graspable by that hand.
 #include <cmath>
 
@@ -31,16 +32,19 @@ Eigen::Quaterniond palm_orientation(const Eigen::Vector3d& approach, const Eigen
 class Reach final : public core::TaskProgram {
  public:
   explicit Reach(const core::Params& p)
-      : object_(p.text("object")), side_(p.text("side")), use_torso_(p.flag("torso")) {}
+      : object_(p.text("object")),
+        side_(p.text("side")),
+        use_torso_(p.flag("torso")),
+        use_base_(p.flag("base")) {}
 
   std::vector<std::string> chains(const core::Skillset&) const override {
     return {arm_of(side_ == "any" ? "left" : side_)};
   }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
     if (side_ == "any") side_ = nearest_free_side(ctx, object_, arm_of);
-    torso_ = use_torso_ && !ctx.busy("torso");
-    if (torso_) return {"torso", arm_of(side_)};
-    return {arm_of(side_)};
+    torso_ = use_torso_;
+    base_ = use_base_;
+    return arm_claim(ctx, arm_of(side_), torso_, base_);
   }
 
   void start(core::ProgramContext& ctx) override {
@@ -65,17 +69,14 @@ class Reach final : public core::TaskProgram {
     }
     // Settle close to the planned hand pose: the graspable test allows 3 cm and the second
     // stand-off uses 2.8 cm of it.
-    motion_.execution.position_tolerance = 0.003;
-    failure_ = motion_.plan_to_poses(ctx, {arm_of(side_)}, hand->palm, poses, ik);
-    if (torso_ && failure_.rfind("ik_failure", 0) == 0) {
-      failure_ = motion_.plan_to_poses(ctx, {"torso", arm_of(side_)}, hand->palm, poses, ik);
-    }
+    arm_motion_.stage().execution.position_tolerance = 0.003;
+    failure_ = arm_motion_.start(ctx, arm_of(side_), hand->palm, poses, ik, torso_, base_);
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
     if (!failure_.empty()) return fail(failure_);
     if (done_) return core::ProgramState::kCompleted;
-    const std::optional<std::string> result = motion_.step();
+    const std::optional<std::string> result = arm_motion_.step(ctx);
     if (!result) return core::ProgramState::kRunning;
     if (!result->empty()) return fail(*result);
     if (!core::graspable(object_, side_)->holds(ctx.world())) {
@@ -129,8 +130,8 @@ class Reach final : public core::TaskProgram {
   }
 
   std::string object_, side_;
-  bool use_torso_ = true, torso_ = false;
-  MotionStage motion_;
+  bool use_torso_ = true, torso_ = false, use_base_ = true, base_ = false;
+  ArmMotion arm_motion_;
   std::string failure_;
   bool done_ = false;
 };
@@ -148,7 +149,13 @@ core::ProgramType reach_program() {
             false,
             true,
             {},
-            "bend the torso too when the arm alone cannot reach (if the torso is free)"}},
+            "bend the torso too when the arm alone cannot reach (if the torso is free)"},
+           {"base",
+            core::ParamType::kBool,
+            false,
+            true,
+            {},
+            "step the base too when arm and torso cannot reach (if the base is free)"}},
           [](const core::Params& p) { return std::make_unique<Reach>(p); }};
 }
 

@@ -189,16 +189,16 @@ MachineSpec two_step_machine(const std::string& second_outcome) {
   MachineSpec m;
   m.name = "two_step";
   m.params = {{"arm", ParamType::kStringList, true, {}, {}, ""}};
-  m.states = {{"first", "sweep", {{"chains", "$arm"}, {"delta", "0.1"}}, false, true},
-              {"second", "sweep", {{"chains", "[head]"}, {"outcome", second_outcome}}, false, true},
-              {"recover", "sweep", {{"chains", "[torso]"}}, false, true},
-              {"done", "", {}, true, true},
-              {"gave_up", "", {}, true, false}};
+  m.states = {{"first", "sweep", {{"chains", "$arm"}, {"delta", "0.1"}}, false, true, ""},
+              {"second", "sweep", {{"chains", "[head]"}, {"outcome", second_outcome}}, false, true, ""},
+              {"recover", "sweep", {{"chains", "[torso]"}}, false, true, ""},
+              {"done", "", {}, true, true, ""},
+              {"gave_up", "", {}, true, false, ""}};
   m.initial = "first";
-  m.transitions = {{"first", MessageType::kCompleted, "second", {}, {}},
-                   {"second", MessageType::kCompleted, "done", {}, {}},
-                   {"second", MessageType::kFailed, "recover", {}, {}},
-                   {"recover", MessageType::kCompleted, "gave_up", {}, {}}};
+  m.transitions = {{"first", MessageType::kCompleted, "second", {}, {}, ""},
+                   {"second", MessageType::kCompleted, "done", {}, {}, ""},
+                   {"second", MessageType::kFailed, "recover", {}, {}, ""},
+                   {"recover", MessageType::kCompleted, "gave_up", {}, {}, ""}};
   return m;
 }
 
@@ -243,10 +243,10 @@ TEST_P(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {
   register_machine(two_step_machine("completed"), registry_);
   MachineSpec outer;
   outer.name = "outer";
-  outer.states = {{"inner", "two_step", {{"arm", "[right_arm]"}}, false, true},
-                  {"end", "", {}, true, true}};
+  outer.states = {{"inner", "two_step", {{"arm", "[right_arm]"}}, false, true, ""},
+                  {"end", "", {}, true, true, ""}};
   outer.initial = "inner";
-  outer.transitions = {{"inner", MessageType::kCompleted, "end", {}, {}}};
+  outer.transitions = {{"inner", MessageType::kCompleted, "end", {}, {}, ""}};
   outer.concurrent = {{"lean", "sweep", {{"chains", "[torso]"}, {"duration", "100"}}, true}};
   register_machine(outer, registry_);
 

@@ -36,7 +36,7 @@ class Hold final : public core::TaskProgram {
 class PrimitivesTest : public ::testing::TestWithParam<test::RobotEnv> {
  protected:
   void SetUp() override {
-    register_primitives(registry_);
+    register_programs(registry_);
     skills_ = std::make_unique<mujoco::MujocoSkillset>(
         test::scene(GetParam().robot, GetParam().environment));
     // A fixed layout: eight obstacles of layout seed 3 (on the floor and the work surface).

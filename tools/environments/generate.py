@@ -168,7 +168,7 @@ def vacuum(w, x, y, top, m_body, m_dark, m_accent):
     w.o('<site name="vacuum_grip" pos="-0.06 0 0.08" size="0.008" rgba="0 1 0 1"/>')
     w.close('</body>')
 
-DEBRIS = [(0.47, 0.28, 0.3), (0.56, 0.33, 1.1), (0.62, 0.27, 2.0), (0.50, 0.42, 0.7), (0.60, 0.46, 2.6)]
+DEBRIS = [(0.50, -0.27, 0.3), (0.57, -0.30, 1.1), (0.64, -0.26, 2.0), (0.55, -0.21, 0.7), (0.63, -0.18, 2.6)]  # right-front, by the vacuum
 
 def debris(w, top, rgba):
     w.o(f'<!-- debris: flat crumbs on the surface (bottom at z = {f(top)}), no joints, no collisions -->')

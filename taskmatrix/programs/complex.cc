@@ -1,0 +1,172 @@
+// The complex task programs (paper section IV): state machines over the primitives, built
+// through the same state-machine API a YAML machine file goes through (core/state_machine.h),
+// so every program, parameter, guard and invariant is checked when they are registered.
+//
+//   pickup   object, side       reach, then grasp, with fixate on the object running on the
+//                               head (not the base) throughout
+//   putdown  object, surface    position the held object onto a placement drawn from
+//                               above(object, surface) and near(object, surface), then release
+//   greet    target, side       fixate on the target until it is centred; then, tracking it
+//                               (head and base), raise a free arm (postural wave_start), wave
+//                               (canned wave, while in_view(target) holds) and lower the arm
+//   vacuum   tool, surface      Fig. 4: pickup the tool; position its tip over the nearest
+//                               debris while any is known; putdown the tool on the surface
+#include "taskmatrix/core/state_machine.h"
+#include "taskmatrix/programs/primitives.h"
+#include "taskmatrix/programs/program_support.h"
+
+namespace taskmatrix::programs {
+
+namespace {
+
+using core::MachineSpec;
+using core::MachineState;
+using core::MachineTransition;
+using core::MessageType;
+using core::ParamSpec;
+using core::ParamType;
+
+MachineState state(std::string name, std::string program, core::RawParams params,
+                   std::string invariant = "") {
+  MachineState s;
+  s.name = std::move(name);
+  s.program = std::move(program);
+  s.params = std::move(params);
+  s.invariant = std::move(invariant);
+  return s;
+}
+
+MachineState final_state(std::string name, bool success) {
+  MachineState s;
+  s.name = std::move(name);
+  s.final = true;
+  s.success = success;
+  return s;
+}
+
+MachineTransition on_completed(std::string from, std::string to, std::string when = "") {
+  MachineTransition t;
+  t.from = std::move(from);
+  t.on = MessageType::kCompleted;
+  t.to = std::move(to);
+  t.when = std::move(when);
+  return t;
+}
+
+ParamSpec text_param(std::string name, std::string doc, std::string default_value = "",
+                     std::vector<std::string> choices = {}) {
+  ParamSpec p;
+  p.name = std::move(name);
+  p.type = ParamType::kString;
+  p.doc = std::move(doc);
+  if (!default_value.empty()) {
+    p.required = false;
+    p.default_value = std::move(default_value);
+  }
+  p.choices = std::move(choices);
+  return p;
+}
+
+MachineSpec pickup() {
+  MachineSpec m;
+  m.name = "pickup";
+  m.doc = "reach for an object and grasp it, fixating on it with the head meanwhile";
+  m.params = {text_param("object", "object id in the perceptual model"),
+              text_param("side", "arm to use; any: the free arm nearest the object", "any",
+                         kSides)};
+  m.concurrent = {{"look", "fixate", {{"object", "$object"}, {"base", "false"}}, true}};
+  m.states = {state("reach", "reach", {{"object", "$object"}, {"side", "$side"}}),
+              state("grasp", "grasp", {{"object", "$object"}, {"side", "$side"}}),
+              final_state("held", true)};
+  m.initial = "reach";
+  m.transitions = {on_completed("reach", "grasp"), on_completed("grasp", "held")};
+  m.transitions.back().stop = {"look"};
+  return m;
+}
+
+MachineSpec putdown() {
+  MachineSpec m;
+  m.name = "putdown";
+  m.doc = "place a held object resting on a surface and let go of it";
+  m.params = {text_param("object", "the held object"),
+              text_param("surface", "surface to put it on", "work_surface")};
+  m.states = {state("place", "position",
+                    {{"object", "$object"}, {"frame", "origin"}, {"on", "$surface"},
+                     {"height", "0.01"}}),
+              state("release", "release", {{"object", "$object"}}), final_state("placed", true)};
+  m.initial = "place";
+  m.transitions = {on_completed("place", "release"), on_completed("release", "placed")};
+  return m;
+}
+
+MachineSpec greet() {
+  MachineSpec m;
+  m.name = "greet";
+  m.doc = "look at a person and, once they are in view, wave at them with a free arm";
+  m.params = {text_param("target", "who to greet", "visitor"),
+              text_param("side", "arm to wave with; any: a free one", "any", kSides)};
+  m.concurrent = {{"track", "fixate", {{"object", "$target"}}, false}};
+  m.states = {
+      state("find", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
+      state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
+            "in_view($target)"),
+      state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
+      state("lower", "postural",
+            {{"posture", "rest"},
+             {"chains", "[left_arm, right_arm, left_hand, right_hand]"},
+             {"skip_busy", "true"}}),
+      final_state("greeted", true)};
+  m.initial = "find";
+  m.transitions = {on_completed("find", "raise"), on_completed("raise", "wave"),
+                   on_completed("wave", "lower"), on_completed("lower", "greeted")};
+  m.transitions[0].start = {"track"};
+  m.transitions[3].stop = {"track"};
+  return m;
+}
+
+MachineSpec vacuum() {
+  MachineSpec m;
+  m.name = "vacuum";
+  m.doc = "pick up a vacuum, pass its tip over every known flake of debris, put it down";
+  m.params = {text_param("tool", "the vacuum", "vacuum"),
+              text_param("surface", "where to put the tool down afterwards", "work_surface")};
+  m.states = {state("pickup", "pickup", {{"object", "$tool"}}),
+              state("clean", "position",
+                    {{"object", "$tool"}, {"frame", "tip"}, {"target_type", "debris"},
+                     {"height", "0.02"}}),
+              state("putdown", "putdown", {{"object", "$tool"}, {"surface", "$surface"}}),
+              final_state("clean_and_stowed", true)};
+  m.initial = "pickup";
+  m.transitions = {on_completed("pickup", "clean", "exists(debris)"),
+                   on_completed("pickup", "putdown", "not(exists(debris))"),
+                   on_completed("clean", "clean", "exists(debris)"),
+                   on_completed("clean", "putdown", "not(exists(debris))"),
+                   on_completed("putdown", "clean_and_stowed")};
+  return m;
+}
+
+}  // namespace
+
+void register_primitives(core::ProgramRegistry& registry) {
+  registry.add(reach_program());
+  registry.add(position_program());
+  registry.add(grasp_program());
+  registry.add(release_program());
+  registry.add(fixate_program());
+  registry.add(explore_program());
+  registry.add(postural_program());
+  registry.add(canned_program());
+}
+
+void register_complex(core::ProgramRegistry& registry) {
+  for (const MachineSpec& m : {pickup(), putdown(), greet(), vacuum()}) {
+    core::register_machine(m, registry);
+  }
+}
+
+void register_programs(core::ProgramRegistry& registry) {
+  register_primitives(registry);
+  register_complex(registry);
+}
+
+}  // namespace taskmatrix::programs

@@ -1,0 +1,299 @@
+// explore: moves the head (and the base's yaw) so that the head sensor observes a region
+// (paper: "explore"). The region is the top face of a known surface, or explicit bounds; it
+// is divided into square cells. A cell is observed when a depth ray of the head sensor ends
+// in its column (within `column_m` above the region): on the surface or on whatever stands
+// on it.
+//
+// Viewpoints: a grid over the head joints, and with the base free, base yaw turns of
+// +-0.5 and +-1.0 rad. After each scan, the next viewpoint is the one whose camera frustum
+// holds the most cells not yet observed (ties: the closest in joint space); cells that were
+// in the frustum of two viewpoints without being observed count as unobservable (occluded,
+// out of range) and are not chased further. Motion to a viewpoint is planned (collision-free).
+//
+// Records "coverage" (observed cells / all cells) after every scan. Completes when coverage
+// reaches `coverage`; fails with "coverage_short: ..." when no viewpoint promises a new cell
+// or `time_limit` passes, reporting what was reached.
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "taskmatrix/programs/primitives.h"
+#include "taskmatrix/programs/program_support.h"
+
+namespace taskmatrix::programs {
+
+namespace {
+
+constexpr double kScanPeriod = 0.2;  // s between scans while moving
+
+struct Region {
+  double x0, x1, y0, y1, z;
+};
+
+class Explore final : public core::TaskProgram {
+ public:
+  explicit Explore(const core::Params& p)
+      : surface_(p.text("surface")),
+        bounds_(p.list("bounds")),
+        cell_(p.number("cell_m")),
+        target_(p.number("coverage")),
+        time_limit_(p.number("time_limit")),
+        use_base_(p.flag("base")) {
+    if (surface_.empty() == bounds_.empty()) {
+      throw std::invalid_argument("explore needs exactly one of surface and bounds");
+    }
+    if (!bounds_.empty() && bounds_.size() != 5) {
+      throw std::invalid_argument(
+          "parameter 'bounds': five numbers [x_min, x_max, y_min, y_max, z] in metres");
+    }
+    if (!(cell_ >= 0.01 && cell_ <= 1.0)) {
+      throw std::invalid_argument("parameter 'cell_m': must be in [0.01, 1] m");
+    }
+    if (!(target_ > 0 && target_ <= 1)) {
+      throw std::invalid_argument("parameter 'coverage': must be in (0, 1]");
+    }
+    if (!(time_limit_ > 0 && std::isfinite(time_limit_))) {
+      throw std::invalid_argument("parameter 'time_limit': must be positive");
+    }
+  }
+
+  std::vector<std::string> chains(const core::Skillset&) const override { return {"head"}; }
+  std::vector<std::string> claim(const core::ClaimContext& ctx) override {
+    base_ = use_base_ && !ctx.busy("base");
+    if (base_) return {"head", "base"};
+    return {"head"};
+  }
+
+  void start(core::ProgramContext& ctx) override {
+    failure_ = make_region(ctx);
+    if (!failure_.empty()) return;
+    nx_ = std::max(1, static_cast<int>(std::round((region_.x1 - region_.x0) / cell_)));
+    ny_ = std::max(1, static_cast<int>(std::round((region_.y1 - region_.y0) / cell_)));
+    observed_.assign(static_cast<size_t>(nx_) * ny_, 0);
+    missed_.assign(observed_.size(), 0);
+    start_time_ = ctx.time();
+    chains_ = {"head"};
+    if (base_) chains_.push_back("base");
+    make_viewpoints(ctx.skills());
+    scan(ctx);
+    next_viewpoint(ctx);
+  }
+
+  core::ProgramState step(core::ProgramContext& ctx) override {
+    if (!failure_.empty()) return fail(failure_);
+    if (coverage() >= target_ - 1e-12) return core::ProgramState::kCompleted;
+    if (ctx.time() - start_time_ >= time_limit_) {
+      return fail(shortfall("the time limit of " + number(time_limit_) + " s passed"));
+    }
+    if (ctx.time() >= next_scan_ - 1e-9) scan(ctx);
+    const std::optional<std::string> moved = motion_.step();
+    if (!moved) return core::ProgramState::kRunning;
+    if (!moved->empty()) return fail(*moved);
+    // At a viewpoint: look, then choose the next one.
+    scan(ctx);
+    for (size_t c : expected_) {
+      if (!observed_[c]) ++missed_[c];
+    }
+    if (coverage() >= target_ - 1e-12) return core::ProgramState::kCompleted;
+    next_viewpoint(ctx);
+    if (!failure_.empty()) return fail(failure_);
+    return core::ProgramState::kRunning;
+  }
+
+ private:
+  static std::string number(double v) {
+    std::ostringstream s;
+    s.precision(3);
+    s << v;
+    return s.str();
+  }
+
+  std::string make_region(core::ProgramContext& ctx) {
+    if (!bounds_.empty()) {
+      double v[5];
+      for (int i = 0; i < 5; ++i) {
+        try {
+          size_t used = 0;
+          v[i] = std::stod(bounds_[i], &used);
+          if (used != bounds_[i].size() || !std::isfinite(v[i])) throw std::invalid_argument("");
+        } catch (const std::exception&) {
+          return "invalid_input: bounds[" + std::to_string(i) + "] '" + bounds_[i] +
+                 "' is not a number";
+        }
+      }
+      if (!(v[0] < v[1] && v[2] < v[3])) return "invalid_input: bounds must have min < max";
+      region_ = {v[0], v[1], v[2], v[3], v[4]};
+      return "";
+    }
+    const core::PerceivedObject* s = ctx.percepts().find(surface_);
+    if (!s) return "perception_miss: '" + surface_ + "' is not in the perceptual model";
+    region_ = {s->box.min().x(), s->box.max().x(), s->box.min().y(), s->box.max().y(),
+               s->box.max().z()};
+    return "";
+  }
+
+  Eigen::Vector3d cell_centre(size_t c) const {
+    const int ix = static_cast<int>(c) % nx_, iy = static_cast<int>(c) / nx_;
+    const double wx = (region_.x1 - region_.x0) / nx_, wy = (region_.y1 - region_.y0) / ny_;
+    return {region_.x0 + (ix + 0.5) * wx, region_.y0 + (iy + 0.5) * wy, region_.z};
+  }
+
+  double coverage() const {
+    return static_cast<double>(std::count(observed_.begin(), observed_.end(), 1)) /
+           static_cast<double>(observed_.size());
+  }
+
+  std::string shortfall(const std::string& why) const {
+    const auto seen = std::count(observed_.begin(), observed_.end(), 1);
+    return "coverage_short: observed " + std::to_string(seen) + " of " +
+           std::to_string(observed_.size()) + " cells (coverage " + number(coverage()) +
+           ", target " + number(target_) + "); " + why;
+  }
+
+  void scan(core::ProgramContext& ctx) {
+    const core::DepthScan depth = ctx.skills().scan_depth();
+    const double wx = (region_.x1 - region_.x0) / nx_, wy = (region_.y1 - region_.y0) / ny_;
+    for (const Eigen::Vector3d& p : depth.hits) {
+      if (p.z() < region_.z - 0.02 || p.z() > region_.z + column_m_) continue;
+      const int ix = static_cast<int>(std::floor((p.x() - region_.x0) / wx));
+      const int iy = static_cast<int>(std::floor((p.y() - region_.y0) / wy));
+      if (ix < 0 || iy < 0 || ix >= nx_ || iy >= ny_) continue;
+      observed_[static_cast<size_t>(iy) * nx_ + ix] = 1;
+    }
+    ctx.record("coverage", coverage());
+    next_scan_ = ctx.time() + kScanPeriod;
+  }
+
+  void make_viewpoints(core::Skillset& skills) {
+    const core::ChainInfo& head = skills.chain("head");
+    const std::vector<double> now = skills.configuration(chains_);
+    const size_t n = head.joints.size();
+    const int steps = n == 1 ? 9 : 5;
+    std::vector<std::vector<double>> heads{{}};
+    for (size_t j = 0; j < n; ++j) {
+      std::vector<std::vector<double>> next;
+      for (const auto& partial : heads) {
+        for (int k = 0; k < steps; ++k) {
+          std::vector<double> q = partial;
+          q.push_back(head.lower[j] + (head.upper[j] - head.lower[j]) * (k + 0.5) / steps);
+          next.push_back(q);
+        }
+      }
+      heads.swap(next);
+    }
+    std::vector<double> turns{0.0};
+    if (base_) turns = {0.0, -0.5, 0.5, -1.0, 1.0};
+    const core::ChainInfo* base = base_ ? &skills.chain("base") : nullptr;
+    for (double turn : turns) {
+      for (const auto& hq : heads) {
+        std::vector<double> v = hq;
+        if (base) {
+          std::vector<double> b(now.begin() + static_cast<long>(n), now.end());
+          if (b.size() != 3) continue;
+          b[2] += turn;
+          if (b[2] < base->lower[2] || b[2] > base->upper[2]) continue;
+          v.insert(v.end(), b.begin(), b.end());
+        }
+        viewpoints_.push_back(v);
+      }
+    }
+  }
+
+  // Cells a viewpoint would see, by the camera frustum (no occlusion).
+  std::vector<size_t> in_view(core::Skillset& skills, const std::vector<double>& v) const {
+    const core::CameraInfo cam = skills.head_camera();
+    const core::Pose pose = skills.frame_pose_at(chains_, v, cam.frame);
+    const double t = std::tan(cam.fovy_rad / 2);
+    std::vector<size_t> cells;
+    for (size_t c = 0; c < observed_.size(); ++c) {
+      const Eigen::Vector3d p = pose.orientation.conjugate() * (cell_centre(c) - pose.position);
+      const double ahead = -p.z();
+      if (ahead <= 0 || p.norm() > cam.range_m) continue;
+      if (std::abs(p.y()) <= 0.9 * ahead * t && std::abs(p.x()) <= 0.9 * ahead * t * cam.aspect)
+        cells.push_back(c);
+    }
+    return cells;
+  }
+
+  // Plans to the most promising viewpoint; an unreachable one is skipped for the next best.
+  void next_viewpoint(core::ProgramContext& ctx) {
+    core::Skillset& skills = ctx.skills();
+    const std::vector<double> now = skills.configuration(chains_);
+    std::string unreachable;
+    for (int attempt = 0; attempt < 6; ++attempt) {
+      int best = -1;
+      size_t best_gain = 0;
+      double best_dist = 0;
+      std::vector<size_t> best_cells;
+      for (size_t k = 0; k < viewpoints_.size(); ++k) {
+        if (visited_.count(k)) continue;
+        std::vector<size_t> cells = in_view(skills, viewpoints_[k]);
+        size_t gain = 0;
+        for (size_t c : cells) gain += !observed_[c] && missed_[c] < 2;
+        const double dist = max_difference(viewpoints_[k], now);
+        if (gain > best_gain || (gain == best_gain && gain > 0 && dist < best_dist)) {
+          best = static_cast<int>(k), best_gain = gain, best_dist = dist;
+          best_cells = std::move(cells);
+        }
+      }
+      if (best < 0) break;
+      visited_.insert(static_cast<size_t>(best));
+      const std::string planned = motion_.plan_to_configuration(ctx, chains_, viewpoints_[best]);
+      if (planned.empty()) {
+        expected_ = std::move(best_cells);
+        return;
+      }
+      unreachable = planned;
+    }
+    failure_ = shortfall(unreachable.empty()
+                             ? "no viewpoint shows a cell not yet observed"
+                             : "the viewpoints that would show more cannot be reached (" +
+                                   unreachable + ")");
+  }
+
+  std::string surface_;
+  std::vector<std::string> bounds_;
+  double cell_, target_, time_limit_;
+  bool use_base_, base_ = false;
+  double column_m_ = 0.5;
+  Region region_{};
+  int nx_ = 1, ny_ = 1;
+  std::vector<char> observed_;
+  std::vector<int> missed_;
+  std::vector<size_t> expected_;
+  std::vector<std::string> chains_;
+  std::vector<std::vector<double>> viewpoints_;
+  std::set<size_t> visited_;
+  double start_time_ = 0, next_scan_ = 0;
+  MotionStage motion_;
+  std::string failure_;
+};
+
+}  // namespace
+
+core::ProgramType explore_program() {
+  using core::ParamType;
+  return {"explore",
+          "moves the head (and base) so that the head sensor observes a region; records "
+          "coverage over time",
+          {{"surface", ParamType::kString, false, std::string(), {}, "a known surface's top"},
+           {"bounds",
+            ParamType::kStringList,
+            false,
+            std::vector<std::string>{},
+            {},
+            "or a region [x_min, x_max, y_min, y_max, z] (m)"},
+           {"cell_m", ParamType::kNumber, false, 0.05, {}, "cell size (m)"},
+           {"coverage", ParamType::kNumber, false, 0.9, {}, "target share of cells observed"},
+           {"time_limit", ParamType::kNumber, false, 60.0, {}, "simulated seconds"},
+           {"base",
+            ParamType::kBool,
+            false,
+            true,
+            {},
+            "turn the base too (if the base is free)"}},
+          [](const core::Params& p) { return std::make_unique<Explore>(p); }};
+}
+
+}  // namespace taskmatrix::programs

@@ -1,0 +1,195 @@
+// fixate: keeps an object centred in the head camera (paper: "fixate"). Every control period
+// it finds the head configuration that points the camera's optical axis at the object's box
+// centre (damped least squares on the head joints, with a finite-difference Jacobian of the
+// camera's view angles) and moves the head towards it within the head's speed limits. When
+// the head alone cannot centre the object (the head is at a limit and the object is off to
+// the side) and the base is free, the base turns about its yaw joint, the third joint of the
+// planar base chain (x, y, yaw) as the skillset defines it.
+//
+// Records "tracking_error_rad" (the angle between the optical axis and the object) every
+// control period. Ends when halted, after `duration` seconds if given, or, with
+// `until_centered`, once the object has stayed centred for 0.3 s: within `tolerance`, or, for
+// a head that cannot do better (a neck without pitch), in view with the head at its best
+// configuration and no horizontal error left.
+#include <algorithm>
+#include <cmath>
+
+#include "taskmatrix/programs/primitives.h"
+#include "taskmatrix/programs/program_support.h"
+
+namespace taskmatrix::programs {
+
+namespace {
+
+constexpr double kCenteredHold = 0.3;  // s the object must stay centred for until_centered
+
+// The object's direction in the camera's view: (horizontal, vertical) angles off the optical
+// axis (the camera looks along its -z, with +x right and +y up).
+Eigen::Vector2d view_angles(const core::Pose& camera, const Eigen::Vector3d& point) {
+  const Eigen::Vector3d p = camera.orientation.conjugate() * (point - camera.position);
+  return {std::atan2(p.x(), -p.z()), std::atan2(p.y(), -p.z())};
+}
+
+double off_axis(const core::Pose& camera, const Eigen::Vector3d& point) {
+  const Eigen::Vector3d p = camera.orientation.conjugate() * (point - camera.position);
+  return std::acos(std::clamp(-p.z() / std::max(p.norm(), 1e-9), -1.0, 1.0));
+}
+
+class Fixate final : public core::TaskProgram {
+ public:
+  explicit Fixate(const core::Params& p)
+      : object_(p.text("object")),
+        duration_(p.number("duration")),
+        until_centered_(p.flag("until_centered")),
+        tolerance_(p.number("tolerance")),
+        use_base_(p.flag("base")) {
+    if (!(std::isfinite(duration_) && duration_ >= 0)) {
+      throw std::invalid_argument("parameter 'duration': must be >= 0 s (0: until halted)");
+    }
+    if (!(tolerance_ > 0 && tolerance_ < 1)) {
+      throw std::invalid_argument("parameter 'tolerance': must be in (0, 1) rad");
+    }
+  }
+
+  std::vector<std::string> chains(const core::Skillset&) const override { return {"head"}; }
+  std::vector<std::string> claim(const core::ClaimContext& ctx) override {
+    base_ = use_base_ && !ctx.busy("base");
+    if (base_) return {"head", "base"};
+    return {"head"};
+  }
+
+  void start(core::ProgramContext& ctx) override {
+    core::Skillset& skills = ctx.skills();
+    camera_ = skills.head_camera().frame;
+    head_ = skills.configuration({"head"});
+    start_time_ = ctx.time();
+    if (base_) {
+      base_cmd_ = skills.configuration({"base"});
+      if (base_cmd_.size() != 3) {
+        failure_ = "invalid_input: the base chain is not planar (x, y, yaw)";
+      }
+    }
+  }
+
+  core::ProgramState step(core::ProgramContext& ctx) override {
+    if (!failure_.empty()) return fail(failure_);
+    const core::PerceivedObject* o = ctx.percepts().find(object_);
+    if (!o) return fail("perception_miss: '" + object_ + "' is not in the perceptual model");
+    core::Skillset& skills = ctx.skills();
+    const Eigen::Vector3d target = o->box.center();
+    const double error = off_axis(skills.frame_pose(camera_), target);
+    ctx.record("tracking_error_rad", error);
+
+    const double dt = skills.control_period();
+    const core::ChainInfo& head = skills.chain("head");
+    const std::vector<double> goal = look_at(skills, head, target);
+    for (size_t i = 0; i < head_.size(); ++i) {
+      const double step = head.speed.velocity * dt;
+      head_[i] += std::clamp(goal[i] - head_[i], -step, step);
+    }
+    skills.command({"head"}, head_);
+
+    // What the head cannot take up: the object's horizontal angle from the camera at the
+    // head's goal. The base turns it away when it may.
+    const double residual =
+        view_angles(skills.frame_pose_at({"head"}, goal, camera_), target).x();
+    const bool head_there = max_difference(goal, head_) < 0.01;
+    const bool best_possible = head_there && std::abs(residual) <= tolerance_ &&
+                               core::in_camera_view(skills, o->box);
+    if (base_) {
+      if (std::abs(residual) > tolerance_ / 2) {
+        const core::ChainInfo& base = skills.chain("base");
+        const double step = base.speed.velocity * dt;
+        const double turn = std::clamp(-residual, -step, step);  // +x right: turn left for -x
+        base_cmd_[2] = std::clamp(base_cmd_[2] + turn, base.lower[2], base.upper[2]);
+        skills.command({"base"}, base_cmd_);
+      }
+    }
+
+    const double now = ctx.time();
+    if (error <= tolerance_ || best_possible) {
+      if (centered_since_ < 0) centered_since_ = now;
+    } else {
+      centered_since_ = -1;
+    }
+    if (until_centered_ && centered_since_ >= 0 && now - centered_since_ >= kCenteredHold - 1e-9) {
+      return core::ProgramState::kCompleted;
+    }
+    if (duration_ > 0 && now - start_time_ >= duration_ - 1e-9) {
+      return core::ProgramState::kCompleted;
+    }
+    return core::ProgramState::kRunning;
+  }
+
+ private:
+  // Head joints that point the camera at `target`, from the current goal: a few damped
+  // Gauss-Newton steps on the view angles, within joint limits.
+  std::vector<double> look_at(core::Skillset& skills, const core::ChainInfo& head,
+                              const Eigen::Vector3d& target) {
+    std::vector<double> q = goal_.empty() ? head_ : goal_;
+    const size_t n = q.size();
+    const double h = 1e-4;
+    for (int iter = 0; iter < 3; ++iter) {
+      const Eigen::Vector2d e = view_angles(skills.frame_pose_at({"head"}, q, camera_), target);
+      if (e.norm() < 1e-4) break;
+      Eigen::MatrixXd jac(2, n);
+      for (size_t i = 0; i < n; ++i) {
+        std::vector<double> qh = q;
+        const bool down = qh[i] + h > head.upper[i];
+        qh[i] += down ? -h : h;
+        const Eigen::Vector2d eh =
+            view_angles(skills.frame_pose_at({"head"}, qh, camera_), target);
+        jac.col(static_cast<Eigen::Index>(i)) = (eh - e) / (down ? -h : h);
+      }
+      const Eigen::MatrixXd jjt = jac * jac.transpose() + 1e-4 * Eigen::Matrix2d::Identity();
+      const Eigen::VectorXd dq = -jac.transpose() * jjt.ldlt().solve(e);
+      for (size_t i = 0; i < n; ++i) {
+        q[i] = std::clamp(q[i] + dq[static_cast<Eigen::Index>(i)], head.lower[i], head.upper[i]);
+      }
+    }
+    goal_ = q;
+    return q;
+  }
+
+  std::string object_;
+  double duration_;
+  bool until_centered_;
+  double tolerance_;
+  bool use_base_, base_ = false;
+  std::string camera_;
+  std::vector<double> head_, goal_, base_cmd_;
+  double start_time_ = 0, centered_since_ = -1;
+  std::string failure_;
+};
+
+}  // namespace
+
+core::ProgramType fixate_program() {
+  using core::ParamType;
+  return {"fixate",
+          "keeps an object centred in the head camera with the head (and the base's yaw when "
+          "the head cannot); records the tracking error",
+          {{"object", ParamType::kString, true, {}, {}, "object id in the perceptual model"},
+           {"duration",
+            ParamType::kNumber,
+            false,
+            0.0,
+            {},
+            "complete after this many seconds; 0: run until halted"},
+           {"until_centered",
+            ParamType::kBool,
+            false,
+            false,
+            {},
+            "complete once the object has stayed within `tolerance` for 0.3 s"},
+           {"tolerance", ParamType::kNumber, false, 0.05, {}, "rad off the optical axis"},
+           {"base",
+            ParamType::kBool,
+            false,
+            true,
+            {},
+            "turn the base when the head cannot centre the object (if the base is free)"}},
+          [](const core::Params& p) { return std::make_unique<Fixate>(p); }};
+}
+
+}  // namespace taskmatrix::programs
