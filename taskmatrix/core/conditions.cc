@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 
 namespace taskmatrix::core {
 
@@ -363,8 +363,10 @@ class ConditionParser {
   void arity(const std::string& f, const std::vector<Arg>& args, size_t lo, size_t hi) {
     if (args.size() < lo || args.size() > hi) {
       error(f + " takes " + std::to_string(lo) +
-            (hi == lo ? "" : hi > 99 ? " or more" : " to " + std::to_string(hi)) + " argument" +
-            (lo == 1 && hi == 1 ? "" : "s") + ", not " + std::to_string(args.size()));
+            (hi == lo  ? ""
+             : hi > 99 ? " or more"
+                       : " to " + std::to_string(hi)) +
+            " argument" + (lo == 1 && hi == 1 ? "" : "s") + ", not " + std::to_string(args.size()));
     }
   }
   ConditionPtr make(const std::string& f, const std::vector<Arg>& args) {
@@ -403,7 +405,8 @@ class ConditionParser {
       arity(f, args, 1, f == "not" ? 1 : 1000);
       std::vector<ConditionPtr> inner;
       for (size_t i = 0; i < args.size(); ++i) {
-        if (!args[i].inner) error(f + ": argument " + std::to_string(i + 1) + " must be a condition");
+        if (!args[i].inner)
+          error(f + ": argument " + std::to_string(i + 1) + " must be a condition");
         inner.push_back(args[i].inner);
       }
       if (f == "not") return negate(inner[0]);

@@ -67,6 +67,9 @@ struct ExecutionOptions {
   double position_tolerance = 0.02;  // rad or m, per joint, at the end
   double settle_time_s = 1.0;        // extra time allowed to settle after the trajectory ends
   bool stop_on_collision = true;
+  // Objects the moving parts may touch without it counting as a collision (reach may brush
+  // the object it is reaching for).
+  std::vector<std::string> may_touch;
 };
 
 struct ExecutionReport {
@@ -83,10 +86,10 @@ struct ExecutionReport {
 // (in_view, explore). Convention: the camera looks along the -z axis of its frame, with +y up
 // in the image (as MuJoCo and OpenGL cameras do).
 struct CameraInfo {
-  std::string frame;       // frame_pose(frame) is the camera's pose
-  double fovy_rad = 0;     // vertical field of view
+  std::string frame;        // frame_pose(frame) is the camera's pose
+  double fovy_rad = 0;      // vertical field of view
   double aspect = 4.0 / 3;  // image width / height of the head sensor
-  double range_m = 0;      // depth range of the head sensor
+  double range_m = 0;       // depth range of the head sensor
 };
 
 // One depth capture of the head sensor: where its rays ended, in the world frame.

@@ -61,8 +61,8 @@ std::string substitute_condition(const std::string& text, const Params& machine_
       continue;
     }
     size_t end = i + 1;
-    while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
-                                 text[end] == '_')) {
+    while (end < text.size() &&
+           (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_')) {
       ++end;
     }
     out += param_text(machine_params.values().at(text.substr(i + 1, end - i - 1)));
@@ -77,8 +77,8 @@ void check_condition(const MachineSpec& spec, const std::string& text, const std
   for (const ParamSpec& p : spec.params) placeholders[p.name] = std::string("x");
   for (size_t i = text.find('$'); i != std::string::npos; i = text.find('$', i + 1)) {
     size_t end = i + 1;
-    while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
-                                 text[end] == '_')) {
+    while (end < text.size() &&
+           (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_')) {
       ++end;
     }
     const std::string ref = text.substr(i + 1, end - i - 1);
@@ -244,9 +244,8 @@ class StateMachineProgram final : public TaskProgram {
     current_child_ = -1;
     current_ = state;
     const MachineState& s = *find_state(spec_, state);
-    invariant_ = s.invariant.empty()
-                     ? nullptr
-                     : parse_condition(substitute_condition(s.invariant, params_));
+    invariant_ =
+        s.invariant.empty() ? nullptr : parse_condition(substitute_condition(s.invariant, params_));
     if (s.final) {
       done_ = true;
       success_ = s.success;

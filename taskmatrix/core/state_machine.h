@@ -28,7 +28,7 @@ struct MachineState {
   std::string program;  // empty for final states
   RawParams params;
   bool final = false;
-  bool success = true;  // for final states
+  bool success = true;    // for final states
   std::string invariant;  // a condition that must hold while the state runs; empty: none
 };
 

@@ -85,7 +85,14 @@ std::optional<ExecutionReport> TrajectoryFollower::step() {
       report_.max_tracking_error =
           std::max(report_.max_tracking_error, max_abs_difference(q, last_commanded_));
     }
-    const std::vector<Collision> hits = skills_.collisions(chains_);
+    std::vector<Collision> hits = skills_.collisions(chains_);
+    hits.erase(std::remove_if(hits.begin(), hits.end(),
+                              [&](const Collision& c) {
+                                return std::find(options_.may_touch.begin(),
+                                                 options_.may_touch.end(),
+                                                 c.other) != options_.may_touch.end();
+                              }),
+               hits.end());
     if (!hits.empty()) {
       if (!report_.collision) report_.collision = hits.front();
       if (options_.stop_on_collision) {

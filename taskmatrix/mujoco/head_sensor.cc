@@ -145,9 +145,8 @@ void SensorPerception::update(double time, core::PerceptualModel& model) {
   std::vector<std::string> gone;
   const Eigen::Vector3d eye = skills_.frame_pose(skills_.head_camera().frame).position;
   for (const auto& [id, o] : model.objects()) {
-    if (std::any_of(seen.begin(), seen.end(), [&](const Recognition& r) {
-          return sensor_.things()[r.thing].id == id;
-        })) {
+    if (std::any_of(seen.begin(), seen.end(),
+                    [&](const Recognition& r) { return sensor_.things()[r.thing].id == id; })) {
       continue;
     }
     const Eigen::Vector3d centre = o.box.center();

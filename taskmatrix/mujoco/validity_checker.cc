@@ -148,8 +148,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
       changing_pairs_.push_back(p);
       // Robot-world pairs keep the planning margin, except against the floor, which the
       // base's lowest geoms always stay a few millimetres above as the base moves.
-      const bool with_world = !scene.is_robot_body(m->geom_bodyid[p.g1]) ||
-                              !scene.is_robot_body(m->geom_bodyid[p.g2]);
+      const bool with_world =
+          !scene.is_robot_body(m->geom_bodyid[p.g1]) || !scene.is_robot_body(m->geom_bodyid[p.g2]);
       const bool floor = m->geom_type[p.g1] == mjGEOM_PLANE || m->geom_type[p.g2] == mjGEOM_PLANE;
       changing_pair_with_world_.push_back(with_world && !floor);
     } else if (!static_collision_ && pair_in_contact(p)) {

@@ -2,7 +2,7 @@
 // through the same state-machine API a YAML machine file goes through (core/state_machine.h),
 // so every program, parameter, guard and invariant is checked when they are registered.
 //
-//   pickup   object, side       reach, then grasp, with fixate on the object running on the
+//   pickup   object, side, step reach, then grasp, with fixate on the object running on the
 //                               head (not the base) throughout
 //   putdown  object, surface    position the held object onto a placement drawn from
 //                               above(object, surface) and near(object, surface), then release
@@ -67,17 +67,28 @@ ParamSpec text_param(std::string name, std::string doc, std::string default_valu
   return p;
 }
 
+ParamSpec flag_param(std::string name, std::string doc, bool default_value) {
+  ParamSpec p;
+  p.name = std::move(name);
+  p.type = ParamType::kBool;
+  p.doc = std::move(doc);
+  p.required = false;
+  p.default_value = default_value;
+  return p;
+}
+
 MachineSpec pickup() {
   MachineSpec m;
   m.name = "pickup";
   m.doc = "reach for an object and grasp it, fixating on it with the head meanwhile";
   m.params = {text_param("object", "object id in the perceptual model"),
-              text_param("side", "arm to use; any: the free arm nearest the object", "any",
-                         kSides)};
+              text_param("side", "arm to use; any: the free arm nearest the object", "any", kSides),
+              flag_param("step", "step the base when arm and torso cannot reach", true)};
   m.concurrent = {{"look", "fixate", {{"object", "$object"}, {"base", "false"}}, true}};
-  m.states = {state("reach", "reach", {{"object", "$object"}, {"side", "$side"}}),
-              state("grasp", "grasp", {{"object", "$object"}, {"side", "$side"}}),
-              final_state("held", true)};
+  m.states = {
+      state("reach", "reach", {{"object", "$object"}, {"side", "$side"}, {"base", "$step"}}),
+      state("grasp", "grasp", {{"object", "$object"}, {"side", "$side"}}),
+      final_state("held", true)};
   m.initial = "reach";
   m.transitions = {on_completed("reach", "grasp"), on_completed("grasp", "held")};
   m.transitions.back().stop = {"look"};
@@ -90,10 +101,10 @@ MachineSpec putdown() {
   m.doc = "place a held object resting on a surface and let go of it";
   m.params = {text_param("object", "the held object"),
               text_param("surface", "surface to put it on", "work_surface")};
-  m.states = {state("place", "position",
-                    {{"object", "$object"}, {"frame", "origin"}, {"on", "$surface"},
-                     {"height", "0.01"}}),
-              state("release", "release", {{"object", "$object"}}), final_state("placed", true)};
+  m.states = {
+      state("place", "position",
+            {{"object", "$object"}, {"frame", "origin"}, {"on", "$surface"}, {"height", "0.01"}}),
+      state("release", "release", {{"object", "$object"}}), final_state("placed", true)};
   m.initial = "place";
   m.transitions = {on_completed("place", "release"), on_completed("release", "placed")};
   return m;
@@ -106,16 +117,15 @@ MachineSpec greet() {
   m.params = {text_param("target", "who to greet", "visitor"),
               text_param("side", "arm to wave with; any: a free one", "any", kSides)};
   m.concurrent = {{"track", "fixate", {{"object", "$target"}}, false}};
-  m.states = {
-      state("find", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
-      state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
-            "in_view($target)"),
-      state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
-      state("lower", "postural",
-            {{"posture", "rest"},
-             {"chains", "[left_arm, right_arm, left_hand, right_hand]"},
-             {"skip_busy", "true"}}),
-      final_state("greeted", true)};
+  m.states = {state("find", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
+              state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
+                    "in_view($target)"),
+              state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
+              state("lower", "postural",
+                    {{"posture", "rest"},
+                     {"chains", "[left_arm, right_arm, left_hand, right_hand]"},
+                     {"skip_busy", "true"}}),
+              final_state("greeted", true)};
   m.initial = "find";
   m.transitions = {on_completed("find", "raise"), on_completed("raise", "wave"),
                    on_completed("wave", "lower"), on_completed("lower", "greeted")};
@@ -130,12 +140,12 @@ MachineSpec vacuum() {
   m.doc = "pick up a vacuum, pass its tip over every known flake of debris, put it down";
   m.params = {text_param("tool", "the vacuum", "vacuum"),
               text_param("surface", "where to put the tool down afterwards", "work_surface")};
-  m.states = {state("pickup", "pickup", {{"object", "$tool"}}),
-              state("clean", "position",
-                    {{"object", "$tool"}, {"frame", "tip"}, {"target_type", "debris"},
-                     {"height", "0.02"}}),
-              state("putdown", "putdown", {{"object", "$tool"}, {"surface", "$surface"}}),
-              final_state("clean_and_stowed", true)};
+  m.states = {
+      state("pickup", "pickup", {{"object", "$tool"}}),
+      state("clean", "position",
+            {{"object", "$tool"}, {"frame", "tip"}, {"target_type", "debris"}, {"height", "0.02"}}),
+      state("putdown", "putdown", {{"object", "$tool"}, {"surface", "$surface"}}),
+      final_state("clean_and_stowed", true)};
   m.initial = "pickup";
   m.transitions = {on_completed("pickup", "clean", "exists(debris)"),
                    on_completed("pickup", "putdown", "not(exists(debris))"),

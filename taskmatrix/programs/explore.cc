@@ -246,10 +246,10 @@ class Explore final : public core::TaskProgram {
       }
       unreachable = planned;
     }
-    failure_ = shortfall(unreachable.empty()
-                             ? "no viewpoint shows a cell not yet observed"
-                             : "the viewpoints that would show more cannot be reached (" +
-                                   unreachable + ")");
+    failure_ =
+        shortfall(unreachable.empty() ? "no viewpoint shows a cell not yet observed"
+                                      : "the viewpoints that would show more cannot be reached (" +
+                                            unreachable + ")");
   }
 
   std::string surface_;
@@ -287,12 +287,7 @@ core::ProgramType explore_program() {
            {"cell_m", ParamType::kNumber, false, 0.05, {}, "cell size (m)"},
            {"coverage", ParamType::kNumber, false, 0.9, {}, "target share of cells observed"},
            {"time_limit", ParamType::kNumber, false, 60.0, {}, "simulated seconds"},
-           {"base",
-            ParamType::kBool,
-            false,
-            true,
-            {},
-            "turn the base too (if the base is free)"}},
+           {"base", ParamType::kBool, false, true, {}, "turn the base too (if the base is free)"}},
           [](const core::Params& p) { return std::make_unique<Explore>(p); }};
 }
 

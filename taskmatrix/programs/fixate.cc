@@ -91,11 +91,10 @@ class Fixate final : public core::TaskProgram {
 
     // What the head cannot take up: the object's horizontal angle from the camera at the
     // head's goal. The base turns it away when it may.
-    const double residual =
-        view_angles(skills.frame_pose_at({"head"}, goal, camera_), target).x();
+    const double residual = view_angles(skills.frame_pose_at({"head"}, goal, camera_), target).x();
     const bool head_there = max_difference(goal, head_) < 0.01;
-    const bool best_possible = head_there && std::abs(residual) <= tolerance_ &&
-                               core::in_camera_view(skills, o->box);
+    const bool best_possible =
+        head_there && std::abs(residual) <= tolerance_ && core::in_camera_view(skills, o->box);
     if (base_) {
       if (std::abs(residual) > tolerance_ / 2) {
         const core::ChainInfo& base = skills.chain("base");
@@ -137,8 +136,7 @@ class Fixate final : public core::TaskProgram {
         std::vector<double> qh = q;
         const bool down = qh[i] + h > head.upper[i];
         qh[i] += down ? -h : h;
-        const Eigen::Vector2d eh =
-            view_angles(skills.frame_pose_at({"head"}, qh, camera_), target);
+        const Eigen::Vector2d eh = view_angles(skills.frame_pose_at({"head"}, qh, camera_), target);
         jac.col(static_cast<Eigen::Index>(i)) = (eh - e) / (down ? -h : h);
       }
       const Eigen::MatrixXd jjt = jac * jac.transpose() + 1e-4 * Eigen::Matrix2d::Identity();

@@ -107,6 +107,8 @@ class Position final : public core::TaskProgram {
     }
     // A held tool loads the arm: settle to 0.01 rad (under a centimetre at the tip).
     arm_motion_.stage().execution.position_tolerance = 0.01;
+    // Setting an object down may touch the surface it goes onto.
+    if (!on_.empty()) arm_motion_.stage().execution.may_touch = {on_};
     failure_ = arm_motion_.start(ctx, arm_of(side_), frame, poses, ik, torso_, base_);
   }
 

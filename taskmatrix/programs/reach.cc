@@ -70,6 +70,8 @@ class Reach final : public core::TaskProgram {
     // Settle close to the planned hand pose: the graspable test allows 3 cm and the second
     // stand-off uses 2.8 cm of it.
     arm_motion_.stage().execution.position_tolerance = 0.003;
+    // The fingers may brush the object on the last centimetres; anything else stops the arm.
+    arm_motion_.stage().execution.may_touch = {object_};
     failure_ = arm_motion_.start(ctx, arm_of(side_), hand->palm, poses, ik, torso_, base_);
   }
 

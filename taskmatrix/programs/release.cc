@@ -47,8 +47,8 @@ class Release final : public core::TaskProgram {
     }
     const std::vector<std::string> hands = chains(skills);
     const ChainValues rest = posture_values(skills, "rest", hands);
-    const core::Trajectory open =
-        skills.time_parameterize(rest.chains, {clamped_configuration(skills, rest.chains), rest.values});
+    const core::Trajectory open = skills.time_parameterize(
+        rest.chains, {clamped_configuration(skills, rest.chains), rest.values});
     core::ExecutionOptions options;
     options.stop_on_collision = false;  // the fingers leave what they were touching
     motion_.follow(ctx, rest.chains, core::timed(open), options);

@@ -1,0 +1,90 @@
+#include "harness/trial.h"
+
+#include "taskmatrix/core/conditions.h"
+#include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/head_sensor.h"
+
+namespace taskmatrix::harness {
+
+namespace {
+
+std::string status_of(const std::string& reason) {
+  const size_t colon = reason.find(':');
+  return colon == std::string::npos ? reason : reason.substr(0, colon);
+}
+
+// Runs one program to its end or the limit; "" on completion, else the reason.
+std::string run_program(core::Executive& executive, const ProgramCall& call, double limit_s) {
+  int id = -1;
+  try {
+    id = executive.start(call.program, call.params);
+  } catch (const std::invalid_argument& e) {
+    return std::string("invalid_input: ") + e.what();
+  }
+  executive.run(limit_s);
+  const core::Message* outcome = executive.outcome(id);
+  if (!outcome) {
+    executive.halt(id);
+    return "time_limit: " + call.program + " still running after " + std::to_string(limit_s) + " s";
+  }
+  if (outcome->type == core::MessageType::kCompleted) return "";
+  return outcome->reason.empty() ? call.program + " " + core::to_string(outcome->type)
+                                 : outcome->reason;
+}
+
+}  // namespace
+
+TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
+                      std::uint64_t layout_seed, std::uint32_t seed,
+                      const core::ProgramRegistry& registry, const TrialObserver& observe) {
+  mujoco::MujocoSkillset skills(std::move(scene));
+  skills.apply_layout(skills.scene().make_layout(scenario.obstacles, layout_seed));
+  skills.set_visitor_walk(scenario.visitor_speed_mps);
+  std::unique_ptr<core::Perception> perception;
+  if (scenario.perception == "sensor") {
+    perception = std::make_unique<mujoco::SensorPerception>(skills);
+  } else {
+    perception = std::make_unique<mujoco::GroundTruthPerception>(skills);
+  }
+  core::ExecutiveOptions options;
+  options.plan.time_limit_s = scenario.plan_time_limit_s;
+  options.seed = seed;
+  core::Executive executive(skills, registry, perception.get(), options);
+
+  TrialResult result;
+  auto finish = [&](const std::string& reason) {
+    result.success = reason.empty();
+    result.status = reason.empty() ? "success" : status_of(reason);
+    result.failure_reason = reason;
+    result.log = executive.log();
+    result.series = executive.series();
+    for (const core::Message& m : result.log) {
+      if (m.type != core::MessageType::kPlanningEnded || !m.plan) continue;
+      ++result.plan_calls;
+      result.planning_time_s += m.plan->planning_time_s;
+    }
+    if (observe) observe("end", skills);
+    return result;
+  };
+  for (const ProgramCall& step : scenario.setup) {
+    const std::string failed = run_program(executive, step, scenario.time_limit_s);
+    if (!failed.empty()) return finish("setup_failed: " + step.program + ": " + failed);
+  }
+  if (observe) observe("setup", skills);
+  const double start = skills.time();
+  const std::string failed = run_program(executive, scenario.run, scenario.time_limit_s);
+  result.duration_s = skills.time() - start;
+  if (!failed.empty()) return finish(failed);
+  if (!scenario.success.empty()) {
+    // Judged on the world: exact perception of the final state.
+    core::PerceptualModel truth;
+    mujoco::GroundTruthPerception(skills).update(skills.time(), truth);
+    const core::ConditionPtr criterion = core::parse_condition(scenario.success);
+    if (!criterion->holds(core::World{skills, truth})) {
+      return finish("criterion_false: " + criterion->describe() + " does not hold at the end");
+    }
+  }
+  return finish("");
+}
+
+}  // namespace taskmatrix::harness

@@ -1,0 +1,43 @@
+// One trial of a scenario: a robot in an environment with one obstacle layout. Builds a
+// worker skillset on the shared compiled scene, applies the layout and the visitor's walk,
+// runs the set-up programs (each must complete), then the scenario's program within its time
+// limit, and judges success on the world as it is at the end (ground-truth perception, so a
+// sensor's misses cannot fake a success).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/scenario.h"
+#include "taskmatrix/core/executive.h"
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+
+namespace taskmatrix::harness {
+
+struct TrialResult {
+  bool success = false;
+  // "success", or the failure's status: the reason's prefix ("ik_failure", "collision", ...),
+  // "setup_failed", "time_limit" (still running at the limit), "criterion_false" (the
+  // program completed but the success condition does not hold), "invalid_input".
+  std::string status;
+  std::string failure_reason;
+  double duration_s = 0;  // simulated seconds of the scenario's program
+  int plan_calls = 0;
+  double planning_time_s = 0;
+  std::vector<core::Message> log;  // every message, set-up included
+  std::vector<core::RecordedSeries> series;
+};
+
+// Called after set-up and at the end, for looking at the trial (renders).
+using TrialObserver =
+    std::function<void(const std::string& moment, const mujoco::MujocoSkillset& skills)>;
+
+TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
+                      std::uint64_t layout_seed, std::uint32_t seed,
+                      const core::ProgramRegistry& registry,
+                      const TrialObserver& observe = nullptr);
+
+}  // namespace taskmatrix::harness
