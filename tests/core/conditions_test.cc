@@ -81,6 +81,39 @@ TEST_P(ConditionsTest, PlacementsDrawnFromAboveAndNearSatisfyBoth) {
   EXPECT_TRUE(sample_placements(*impossible, world(), "cup", rng, 5, 100).empty());
 }
 
+TEST_P(ConditionsTest, TextFormParsesAndEvaluatesLikeTheCalls) {
+  const ConditionPtr c = parse_condition(
+      "all_of(above(cup, work_surface), near(cup, work_surface, 0.1), "
+      "not(grasping(cup)), exists(debris))");
+  EXPECT_EQ(c->describe(),
+            "all_of(above(cup, work_surface), near(cup, work_surface, 0.1), not(grasping(cup)), "
+            "exists(debris))");
+  EXPECT_TRUE(c->holds(world()));
+  EXPECT_FALSE(parse_condition("exists(teapot)")->holds(world()));
+  EXPECT_FALSE(parse_condition("any_of(grasping(cup), graspable(cup))")->holds(world()));
+  // At rest the head looks at the work surface.
+  EXPECT_TRUE(parse_condition("in_view(cup)")->holds(world()));
+  auto error = [](const std::string& text) {
+    try {
+      parse_condition(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("near(cup)"), "condition 'near(cup)': near takes 2 to 3 arguments, not 1");
+  EXPECT_EQ(error("nearby(cup, box)")
+                .rfind("condition 'nearby(cup, box)': unknown condition "
+                       "'nearby' (known: near, above,",
+                       0),
+            0u);
+  EXPECT_EQ(error("grasping(cup"), "condition 'grasping(cup': expected ')' at position 12");
+  EXPECT_EQ(error("near(cup, box, -1)"),
+            "condition 'near(cup, box, -1)': near: argument 3 must be a non-negative number, "
+            "not '-1'");
+  EXPECT_EQ(error("not(cup)"), "condition 'not(cup)': not: argument 1 must be a condition");
+}
+
 TEST_P(ConditionsTest, PosturalFollowsTheChains) {
   EXPECT_TRUE(postural("rest")->holds(world()));
   EXPECT_FALSE(postural("fist")->holds(world()));
