@@ -53,9 +53,8 @@ class Fixate final : public core::TaskProgram {
 
   std::vector<std::string> chains(const core::Skillset&) const override { return {"head"}; }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
-    base_ = use_base_ && !ctx.busy("base");
-    if (base_) return {"head", "base"};
-    return {"head"};
+    base_ = use_base_;
+    return head_claim(ctx, base_);
   }
 
   void start(core::ProgramContext& ctx) override {

@@ -227,6 +227,12 @@ std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::str
   return chains;
 }
 
+std::vector<std::string> head_claim(const core::ClaimContext& ctx, bool& base) {
+  base = base && !ctx.busy("base");
+  if (base) return {"head", "base"};
+  return {"head"};
+}
+
 std::string MotionStage::start_following(core::ProgramContext& ctx,
                                          const std::vector<std::string>& chains,
                                          std::shared_ptr<const core::PlanResult> plan) {

@@ -121,6 +121,9 @@ class ArmMotion {
 std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::string& arm,
                                    bool& torso, bool& base);
 
+// The chains a head program claims: the head, and the base when allowed and free.
+std::vector<std::string> head_claim(const core::ClaimContext& ctx, bool& base);
+
 // "<status>: <message>" for a failed plan.
 std::string plan_failure_reason(const core::PlanResult& plan);
 
