@@ -144,7 +144,18 @@ void check_program_params(const MachineSpec& spec, const ProgramRegistry& regist
 class StateMachineProgram final : public TaskProgram {
  public:
   StateMachineProgram(MachineSpec spec, Params params)
-      : spec_(std::move(spec)), params_(std::move(params)) {}
+      : spec_(std::move(spec)), params_(std::move(params)) {
+    // Guards and invariants, parsed once with this instance's parameters.
+    for (const MachineTransition& t : spec_.transitions) {
+      guards_.push_back(t.when.empty() ? nullptr
+                                       : parse_condition(substitute_condition(t.when, params_)));
+    }
+    for (const MachineState& st : spec_.states) {
+      if (!st.invariant.empty()) {
+        invariants_[st.name] = parse_condition(substitute_condition(st.invariant, params_));
+      }
+    }
+  }
 
   std::vector<std::string> chains(const Skillset&) const override { return {}; }
 
@@ -182,10 +193,10 @@ class StateMachineProgram final : public TaskProgram {
       if (source.empty()) continue;  // an old child's late message
       const MachineTransition* t = nullptr;
       std::string guards_false;
-      for (const MachineTransition& tr : spec_.transitions) {
+      for (size_t k = 0; k < spec_.transitions.size(); ++k) {
+        const MachineTransition& tr = spec_.transitions[k];
         if (tr.from != source || tr.on != m.type) continue;
-        if (!tr.when.empty()) {
-          const ConditionPtr guard = parse_condition(substitute_condition(tr.when, params_));
+        if (const ConditionPtr& guard = guards_[k]) {
           if (!guard->holds(ctx.world())) {
             guards_false += (guards_false.empty() ? "" : ", ") + guard->describe();
             continue;
@@ -244,8 +255,8 @@ class StateMachineProgram final : public TaskProgram {
     current_child_ = -1;
     current_ = state;
     const MachineState& s = *find_state(spec_, state);
-    invariant_ =
-        s.invariant.empty() ? nullptr : parse_condition(substitute_condition(s.invariant, params_));
+    const auto invariant = invariants_.find(state);
+    invariant_ = invariant == invariants_.end() ? nullptr : invariant->second;
     if (s.final) {
       done_ = true;
       success_ = s.success;
@@ -262,7 +273,9 @@ class StateMachineProgram final : public TaskProgram {
   std::map<std::string, int> concurrent_ids_;
   bool done_ = false, success_ = false;
   std::string last_reason_;
-  ConditionPtr invariant_;  // of the current state
+  std::vector<ConditionPtr> guards_;                // per transition; null: none
+  std::map<std::string, ConditionPtr> invariants_;  // by state
+  ConditionPtr invariant_;                          // of the current state
   static constexpr int kInvariantSender = -2;
 };
 

@@ -104,17 +104,18 @@ void MujocoSkillset::set_visitor_walk(double speed_mps) {
     visitor_qpos_[k] = m->jnt_qposadr[j];
     visitor_dof_[k] = m->jnt_dofadr[j];
   }
+  visitor_arc_ = {0.0};
+  for (size_t i = 1; i < v.path.size(); ++i) {
+    visitor_arc_.push_back(visitor_arc_.back() + std::hypot(v.path[i][0] - v.path[i - 1][0],
+                                                            v.path[i][1] - v.path[i - 1][1]));
+  }
   visitor_speed_ = speed_mps;
 }
 
 void MujocoSkillset::drive_visitor(mjData* d, double time) const {
   if (visitor_speed_ <= 0) return;
   const auto& path = scene_->environment().visitor.path;
-  // Arc length along the path, there and back again.
-  std::vector<double> at{0};
-  for (size_t i = 1; i < path.size(); ++i) {
-    at.push_back(at.back() + std::hypot(path[i][0] - path[i - 1][0], path[i][1] - path[i - 1][1]));
-  }
+  const std::vector<double>& at = visitor_arc_;  // arc length at each waypoint
   const double length = at.back();
   if (length <= 0) return;
   double s = std::fmod(visitor_speed_ * time, 2 * length);
@@ -375,22 +376,9 @@ std::vector<double> MujocoSkillset::configuration(
   return values;
 }
 
-namespace {
-
-// Object names (the environment's symbolic names) stand for their first body.
-std::string frame_name(const Scene& scene, const std::string& frame) {
-  const auto it = scene.environment().objects.find(frame);
-  if (it != scene.environment().objects.end() && !it->second.bodies.empty())
-    return it->second.bodies.front();
-  return frame;
-}
-
-}  // namespace
-
 core::Pose MujocoSkillset::frame_pose(const std::string& frame) const {
   try {
-    return mujoco::frame_pose(worker_.data(),
-                              resolve_frame(*scene_, worker_.data(), frame_name(*scene_, frame)));
+    return mujoco::frame_pose(worker_.data(), resolve_frame(*scene_, worker_.data(), frame));
   } catch (const std::out_of_range&) {
     throw std::invalid_argument("no frame or object '" + frame + "' in robot " + profile().name +
                                 " or environment " + scene_->environment().name);
@@ -412,7 +400,7 @@ core::Pose MujocoSkillset::frame_pose_at(const std::vector<std::string>& chain_n
     mj_kinematics(m, q);
   }
   try {
-    return mujoco::frame_pose(q, resolve_frame(*scene_, q, frame_name(*scene_, frame)));
+    return mujoco::frame_pose(q, resolve_frame(*scene_, q, frame));
   } catch (const std::out_of_range&) {
     throw std::invalid_argument("no frame or object '" + frame + "'");
   }
@@ -431,8 +419,8 @@ core::IkResult MujocoSkillset::solve_ik(const std::vector<std::string>& chain_na
   }
   const BeliefScope belief(*this);
   sync_query();
-  return mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints,
-                          frame_name(*scene_, frame), target, options, attachments_);
+  return mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame, target, options,
+                          attachments_);
 }
 
 bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
@@ -485,9 +473,8 @@ core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& c
   bool any_planned = false;
   for (size_t k = 0; k < targets.size(); ++k) {
     sync_query();
-    const core::IkResult solved =
-        mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame_name(*scene_, frame),
-                         targets[k], ik, attachments_);
+    const core::IkResult solved = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints,
+                                                   frame, targets[k], ik, attachments_);
     total.ik_time_s += solved.time_s;
     if (solved.status == core::IkStatus::kInvalidInput) {
       total.status = core::PlanStatus::kInvalidInput;

@@ -179,6 +179,7 @@ class MujocoSkillset final : public core::Skillset {
   int substeps_ = 5;
   double period_start_ = 0;
   double visitor_speed_ = 0;
+  std::vector<double> visitor_arc_;              // arc length along the path at each waypoint
   std::array<int, 3> visitor_qpos_{-1, -1, -1};  // x, y, yaw
   std::array<int, 3> visitor_dof_{-1, -1, -1};
   struct Debris {

@@ -343,7 +343,7 @@ FrameRef Scene::frame(std::string_view name) const {
   // Objects by symbolic name, and their named frames.
   const size_t dot = n.find('.');
   const auto object = environment_.objects.find(n.substr(0, dot));
-  if (object != environment_.objects.end() && object->second.bodies.size() == 1) {
+  if (object != environment_.objects.end() && !object->second.bodies.empty()) {
     const core::ObjectSpec& o = object->second;
     const std::string part = dot == std::string::npos ? "" : n.substr(dot + 1);
     const std::string* site = part == "tip" ? &o.tip_site : part == "grip" ? &o.grip_site : nullptr;
