@@ -1,10 +1,15 @@
 #include "harness/scenario.h"
 
 #include <algorithm>
+#include <cctype>
+#include <tuple>
 
 #include "taskmatrix/core/conditions.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/io/machine_file.h"
+#include "taskmatrix/io/text_file.h"
 #include "taskmatrix/io/yaml_reader.h"
+#include "taskmatrix/mujoco/motion_planner.h"
 
 namespace taskmatrix::harness {
 
@@ -60,19 +65,135 @@ std::vector<std::string> read_names(const io::YamlNode& node, const std::vector<
   return names;
 }
 
+bool is_id_name(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+std::vector<PlannerConfig> read_planners(const io::YamlNode& node) {
+  std::vector<PlannerConfig> out;
+  for (const io::YamlNode& item : node.items()) {
+    PlannerConfig p;
+    if (item.is_scalar()) {
+      p.spec.name = item.as_string();
+    } else {
+      item.expect_keys({"name", "label", "params"});
+      p.spec.name = item.required("name").as_string();
+      if (auto params = item.optional("params")) {
+        for (const auto& [key, value] : params->entries()) p.spec.params[key] = value.as_string();
+      }
+    }
+    p.label = item.is_scalar() ? p.spec.name : item.get_string("label", p.spec.name);
+    if (!is_id_name(p.label)) item.fail("planner label '" + p.label + "' must be [A-Za-z0-9_-]+");
+    if (const std::string bad = check_planner(p.spec); !bad.empty()) item.fail(bad);
+    for (const PlannerConfig& q : out) {
+      if (q.label == p.label) item.fail("planner label '" + p.label + "' appears twice");
+    }
+    out.push_back(std::move(p));
+  }
+  if (out.empty()) node.fail("needs at least one planner");
+  return out;
+}
+
+std::pair<double, double> read_range(const io::YamlNode& node) {
+  const std::vector<double> v = node.as_doubles();
+  if (v.size() != 2 || !(v[0] > 0) || !(v[1] >= v[0])) {
+    node.fail("must be [min, max] with 0 < min <= max (metres)");
+  }
+  return {v[0], v[1]};
+}
+
+core::ObstacleOptions read_obstacles(const io::YamlNode& o) {
+  o.expect_keys({"count", "regions", "shapes", "footprint_m", "half_height_m"});
+  core::ObstacleOptions out;
+  const io::YamlNode count = o.required("count");
+  out.count = count.as_int();
+  if (out.count < 0) count.fail("must be 0 or more");
+  if (auto regions = o.optional("regions")) {
+    out.regions = regions->as_strings();
+    if (out.regions.empty()) regions->fail("needs at least one region name");
+  }
+  if (auto shapes = o.optional("shapes")) {
+    out.shapes.clear();
+    for (const std::string& name : shapes->as_strings()) {
+      if (name == "box") {
+        out.shapes.push_back(core::ObstacleShape::kBox);
+      } else if (name == "cylinder") {
+        out.shapes.push_back(core::ObstacleShape::kCylinder);
+      } else if (name == "sphere") {
+        out.shapes.push_back(core::ObstacleShape::kSphere);
+      } else {
+        shapes->fail("unknown shape '" + name + "' (known: box, cylinder, sphere)");
+      }
+    }
+    if (out.shapes.empty()) shapes->fail("needs at least one shape");
+  }
+  if (auto f = o.optional("footprint_m")) {
+    std::tie(out.footprint_min_m, out.footprint_max_m) = read_range(*f);
+  }
+  if (auto h = o.optional("half_height_m")) {
+    std::tie(out.half_height_min_m, out.half_height_max_m) = read_range(*h);
+  }
+  return out;
+}
+
+std::uint64_t read_layout_seed(const io::YamlNode& node) {
+  const int v = node.as_int();
+  if (v < 0) node.fail("must be 0 or more");
+  return static_cast<std::uint64_t>(v);
+}
+
+std::uint32_t read_seed(const io::YamlNode& node) {
+  const int v = node.as_int();
+  if (v < 1) node.fail("must be 1 or more");
+  return static_cast<std::uint32_t>(v);
+}
+
+int read_trials(const io::YamlNode& node) {
+  const int v = node.as_int();
+  if (v < 1 || v > 100000) node.fail("must be in 1..100000");
+  return v;
+}
+
 }  // namespace
 
+std::string check_planner(const core::PlannerSpec& spec) {
+  return mujoco::check_planner_spec(spec);
+}
+
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
-                       const core::ProgramRegistry& registry) {
+                       core::ProgramRegistry& registry) {
   const io::YamlNode root = io::YamlNode::load_file(file);
-  root.expect_keys({"name", "doc", "program", "params", "setup", "robots", "environments",
-                    "perception", "obstacles", "layout_seed", "seed", "trials", "visitor",
-                    "plan_time_limit_s", "time_limit_s", "success"});
+  root.expect_keys({"name", "doc", "program", "machine", "params", "setup", "robots",
+                    "environments", "perception", "obstacles", "planners", "layout_seed", "seed",
+                    "trials", "visitor", "plan_time_limit_s", "time_limit_s", "wall_limit_s",
+                    "success"});
   Scenario s;
   s.file = file;
+  s.program_text = io::read_text_file(file);
   s.name = root.get_string("name", file.stem().string());
+  if (!is_id_name(s.name)) {
+    (root.has("name") ? root.required("name") : root)
+        .fail("scenario name '" + s.name + "' must be [A-Za-z0-9_-]+ (it is part of trial ids)");
+  }
   s.doc = root.get_string("doc", "");
-  s.run = read_call(root, registry, root.required("program"), root.optional("params"));
+  if (auto machine = root.optional("machine")) {
+    const std::string name = machine->get_string("name", "");
+    if (!name.empty() && registry.find(name)) {
+      machine->required("name").fail("a program named '" + name + "' already exists");
+    }
+    const std::string registered = io::register_machine_node(*machine, registry);
+    if (root.has("program") && root.required("program").as_string() != registered) {
+      root.required("program").fail("names '" + root.required("program").as_string() +
+                                    "' but the inline machine is '" + registered + "'");
+    }
+    s.run = read_call(root, registry,
+                      root.has("program") ? root.required("program") : machine->required("name"),
+                      root.optional("params"));
+  } else {
+    s.run = read_call(root, registry, root.required("program"), root.optional("params"));
+  }
   if (auto setup = root.optional("setup")) {
     for (const io::YamlNode& step : setup->items()) {
       step.expect_keys({"program", "params"});
@@ -88,26 +209,11 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
       p->fail("must be ground_truth or sensor, not '" + s.perception + "'");
     }
   }
-  if (auto o = root.optional("obstacles")) {
-    o->expect_keys({"count"});
-    const io::YamlNode count = o->required("count");
-    s.obstacles = count.as_int();
-    if (s.obstacles < 0) count.fail("must be 0 or more");
-  }
-  if (auto seed = root.optional("layout_seed")) {
-    const int v = seed->as_int();
-    if (v < 0) seed->fail("must be 0 or more");
-    s.layout_seed = static_cast<std::uint64_t>(v);
-  }
-  if (auto seed = root.optional("seed")) {
-    const int v = seed->as_int();
-    if (v < 1) seed->fail("must be 1 or more");
-    s.seed = static_cast<std::uint32_t>(v);
-  }
-  if (auto trials = root.optional("trials")) {
-    s.trials = trials->as_int();
-    if (s.trials < 1) trials->fail("must be 1 or more");
-  }
+  if (auto o = root.optional("obstacles")) s.obstacles = read_obstacles(*o);
+  if (auto p = root.optional("planners")) s.planners = read_planners(*p);
+  if (auto seed = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*seed);
+  if (auto seed = root.optional("seed")) s.seed = read_seed(*seed);
+  if (auto trials = root.optional("trials")) s.trials = read_trials(*trials);
   if (auto visitor = root.optional("visitor")) {
     visitor->expect_keys({"walk_speed"});
     if (auto speed = visitor->optional("walk_speed")) {
@@ -117,6 +223,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
   }
   if (auto t = root.optional("plan_time_limit_s")) s.plan_time_limit_s = t->as_positive_double();
   if (auto t = root.optional("time_limit_s")) s.time_limit_s = t->as_positive_double();
+  if (auto t = root.optional("wall_limit_s")) s.wall_limit_s = t->as_positive_double();
   if (auto success = root.optional("success")) {
     s.success = success->as_string();
     try {
@@ -126,6 +233,73 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
     }
   }
   return s;
+}
+
+RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& catalog,
+                      core::ProgramRegistry& registry) {
+  RunPlan plan;
+  plan.file = file;
+  const io::YamlNode root = io::YamlNode::load_file(file);
+  if (!root.has("suite")) {
+    plan.scenarios.push_back(load_scenario(file, catalog, registry));
+    plan.name = plan.scenarios[0].name;
+    plan.doc = plan.scenarios[0].doc;
+    return plan;
+  }
+  root.expect_keys({"suite", "doc", "scenarios", "trials", "layout_seed", "seed", "planners",
+                    "robots", "environments", "plan_time_limit_s", "wall_limit_s"});
+  plan.suite = true;
+  plan.text = io::read_text_file(file);
+  plan.name = root.required("suite").as_string();
+  if (!is_id_name(plan.name)) root.required("suite").fail("suite name must be [A-Za-z0-9_-]+");
+  plan.doc = root.get_string("doc", "");
+  const io::YamlNode list = root.required("scenarios");
+  for (const io::YamlNode& item : list.items()) {
+    std::filesystem::path included = item.as_string();
+    if (included.is_relative()) included = file.parent_path() / included;
+    if (!std::filesystem::is_regular_file(included)) {
+      item.fail("no scenario file '" + included.string() + "'");
+    }
+    Scenario s = load_scenario(included, catalog, registry);
+    for (const Scenario& other : plan.scenarios) {
+      if (other.name == s.name) item.fail("two scenarios are named '" + s.name + "'");
+    }
+    plan.scenarios.push_back(std::move(s));
+  }
+  if (plan.scenarios.empty()) list.fail("needs at least one scenario");
+  for (Scenario& s : plan.scenarios) {
+    if (auto n = root.optional("trials")) s.trials = read_trials(*n);
+    if (auto n = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*n);
+    if (auto n = root.optional("seed")) s.seed = read_seed(*n);
+    if (auto n = root.optional("planners")) s.planners = read_planners(*n);
+    if (auto n = root.optional("robots")) s.robots = read_names(*n, catalog.robots(), "robot");
+    if (auto n = root.optional("environments")) {
+      s.environments = read_names(*n, catalog.environments(), "environment");
+    }
+    if (auto n = root.optional("plan_time_limit_s")) s.plan_time_limit_s = n->as_positive_double();
+    if (auto n = root.optional("wall_limit_s")) s.wall_limit_s = n->as_positive_double();
+  }
+  return plan;
+}
+
+void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
+  std::vector<PlannerConfig> planners;
+  for (const std::string& name : overrides.planners) {
+    PlannerConfig p{name, {}};
+    p.spec.name = name;
+    if (const std::string bad = check_planner(p.spec); !bad.empty()) {
+      throw core::InputError("--planners", "", bad);
+    }
+    for (const PlannerConfig& q : planners) {
+      if (q.label == name) throw core::InputError("--planners", "", name + " appears twice");
+    }
+    planners.push_back(std::move(p));
+  }
+  for (Scenario& s : plan.scenarios) {
+    if (overrides.trials > 0) s.trials = overrides.trials;
+    if (overrides.seed > 0) s.seed = overrides.seed;
+    if (!planners.empty()) s.planners = planners;
+  }
 }
 
 }  // namespace taskmatrix::harness

@@ -1,27 +1,11 @@
-// Scenarios: what to run (a program and its parameters, after optional set-up programs), where
-// (robots x environments, obstacle layouts, the visitor), how (perception mode, planner time
-// limit, trial time limit) and what counts as success (a condition on the world at the end).
+// Scenarios: what to run (a program, or a state machine written inline, with its parameters,
+// after optional set-up programs), where (robots x environments, randomized obstacle layouts,
+// the visitor), how (perception mode, planners, time limits) and what counts as success (a
+// condition on the world at the end). Suites run several scenarios with shared overrides.
 //
-// File format (scenarios/programs/<program>.yaml; see scenarios/README.md):
-//   name: pickup                        # defaults to the file's stem
-//   doc: reach for the cup and grasp it
-//   program: pickup                     # any registered program
-//   params: {object: cup}
-//   setup:                              # run first, each must complete (optional)
-//     - {program: reach, params: {object: cup}}
-//   robots: [tallbot, minibot]
-//   environments: [kitchen, office]
-//   perception: ground_truth            # or sensor
-//   obstacles: {count: 8}               # randomized per layout seed
-//   layout_seed: 3                      # the default layout; trial k uses layout_seed + k
-//   seed: 1                             # planner seeds; trial k uses seed + k
-//   trials: 1
-//   visitor: {walk_speed: 0.0}          # m/s along the environment's path
-//   plan_time_limit_s: 5
-//   time_limit_s: 60                    # simulated seconds for the program
-//   success: grasping(cup)              # parse_condition text, checked on ground truth
-// Everything is checked when the file is read: unknown keys, types, names of robots,
-// environments, programs and parameters, the condition's syntax. Errors name file, line, key.
+// Formats: scenarios/README.md. Everything is checked when a file is read: unknown keys,
+// types, NaN, names of robots, environments, programs, planners, planner parameters and
+// program parameters, the condition's syntax, included files. Errors name file, line, key.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +14,8 @@
 #include <vector>
 
 #include "harness/model_catalog.h"
+#include "taskmatrix/core/obstacle_layout.h"
+#include "taskmatrix/core/planning_types.h"
 #include "taskmatrix/core/task_program.h"
 
 namespace taskmatrix::harness {
@@ -39,26 +25,69 @@ struct ProgramCall {
   core::RawParams params;
 };
 
+// A planner of the trial matrix: OMPL's name and parameters, under a label (default: the
+// name) that names it in trial ids and results, so one planner may appear with two settings.
+struct PlannerConfig {
+  std::string label;
+  core::PlannerSpec spec;
+};
+
 struct Scenario {
-  std::string name;
+  std::string name;  // [A-Za-z0-9_-]+; defaults to the file's stem
   std::string doc;
   std::filesystem::path file;
   ProgramCall run;
   std::vector<ProgramCall> setup;
   std::vector<std::string> robots, environments;
   std::string perception = "ground_truth";
-  int obstacles = 0;
-  std::uint64_t layout_seed = 1;
-  std::uint32_t seed = 1;  // of the executive's plan-seed sequence
+  core::ObstacleOptions obstacles;
+  std::vector<PlannerConfig> planners{{"RRTConnect", {}}};
+  std::uint64_t layout_seed = 1;  // trial k (0-based) uses layout_seed + k
+  std::uint32_t seed = 1;         // of the executive's plan-seed sequence; trial k: seed + k
   int trials = 1;
   double visitor_speed_mps = 0;
   double plan_time_limit_s = 5.0;
-  double time_limit_s = 60.0;
-  std::string success;  // condition text; empty: the program's completion is the success
+  double time_limit_s = 60.0;   // simulated seconds for the program (and each set-up step)
+  double wall_limit_s = 120.0;  // wall-clock seconds a trial's worker may take before it is killed
+  std::string success;          // condition text; empty: the program's completion is the success
+  std::string program_text;     // the file's bytes (for the run's scenario hash)
 };
 
-// Reads and checks a scenario. Throws core::InputError naming the file, line and key.
+// Reads and checks a scenario. An inline `machine:` is registered in `registry` under its
+// name. Throws core::InputError naming the file, line and key.
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
-                       const core::ProgramRegistry& registry);
+                       core::ProgramRegistry& registry);
+
+// What `taskmatrix run FILE` runs: the scenario in FILE, or the scenarios a suite includes.
+//   suite: default                # marks a suite and names it
+//   doc: ...
+//   scenarios: [programs/reach.yaml, ...]   # relative to the suite file
+//   trials: 3                     # optional overrides for every scenario: trials,
+//                                 # layout_seed, seed, planners, robots, environments,
+//                                 # plan_time_limit_s, wall_limit_s
+struct RunPlan {
+  std::string name;
+  std::string doc;
+  std::filesystem::path file;
+  bool suite = false;
+  std::vector<Scenario> scenarios;  // names unique
+  std::string text;                 // the suite file's bytes (empty for a single scenario)
+};
+
+RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& catalog,
+                      core::ProgramRegistry& registry);
+
+// Overrides from the command line (--trials, --seed, --planners); each applies to every
+// scenario. Throws core::InputError naming the option for an unknown planner.
+struct RunOverrides {
+  int trials = 0;                     // 0: keep
+  std::uint32_t seed = 0;             // 0: keep
+  std::vector<std::string> planners;  // empty: keep
+};
+void apply_overrides(RunPlan& plan, const RunOverrides& overrides);
+
+// Checks a planner name and parameters against OMPL's (the backend's planner table).
+// Returns "" or what is wrong.
+std::string check_planner(const core::PlannerSpec& spec);
 
 }  // namespace taskmatrix::harness

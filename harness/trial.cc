@@ -1,5 +1,7 @@
 #include "harness/trial.h"
 
+#include <chrono>
+
 #include "taskmatrix/core/conditions.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/head_sensor.h"
@@ -36,9 +38,12 @@ std::string run_program(core::Executive& executive, const ProgramCall& call, dou
 
 TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
                       std::uint64_t layout_seed, std::uint32_t seed,
-                      const core::ProgramRegistry& registry, const TrialObserver& observe) {
+                      const core::ProgramRegistry& registry, const TrialObserver& observe,
+                      const TrialOptions& trial_options) {
+  const auto t0 = std::chrono::steady_clock::now();
   mujoco::MujocoSkillset skills(std::move(scene));
   skills.apply_layout(skills.scene().make_layout(scenario.obstacles, layout_seed));
+  if (trial_options.record_rate_hz > 0) skills.record_states(trial_options.record_rate_hz);
   skills.set_visitor_walk(scenario.visitor_speed_mps);
   std::unique_ptr<core::Perception> perception;
   if (scenario.perception == "sensor") {
@@ -49,6 +54,10 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
   core::ExecutiveOptions options;
   options.plan.time_limit_s = scenario.plan_time_limit_s;
   options.seed = seed;
+  const PlannerConfig* planner =
+      trial_options.planner ? trial_options.planner
+                            : (scenario.planners.empty() ? nullptr : &scenario.planners[0]);
+  if (planner) options.plan.planner = planner->spec;
   core::Executive executive(skills, registry, perception.get(), options);
 
   TrialResult result;
@@ -59,11 +68,23 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
     result.log = executive.log();
     result.series = executive.series();
     for (const core::Message& m : result.log) {
-      if (m.type != core::MessageType::kPlanningEnded || !m.plan) continue;
-      ++result.plan_calls;
-      result.planning_time_s += m.plan->planning_time_s;
+      if (m.type == core::MessageType::kPlanningStarted ||
+          m.type == core::MessageType::kPlanningEnded) {
+        continue;
+      }
+      result.events.push_back({m.time, m.sender, m.program, core::to_string(m.type), m.reason});
     }
+    result.work = skills.work();
+    result.plan_calls = static_cast<int>(result.work.plans.size());
+    result.planning_time_s = result.work.planning_time_s();
+    result.sim_time_s = skills.time();
+    for (int body : skills.removed_debris()) {
+      result.removed_debris.push_back(mj_id2name(skills.model(), mjOBJ_BODY, body));
+    }
+    if (trial_options.record_rate_hz > 0) result.recording = skills.recording();
     if (observe) observe("end", skills);
+    result.trial_wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;
   };
   for (const ProgramCall& step : scenario.setup) {

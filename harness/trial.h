@@ -17,6 +17,16 @@
 
 namespace taskmatrix::harness {
 
+// A message of the trial's executive other than planning (started, completed, failed,
+// halted), i.e. the programs' and state machines' events, with simulated time.
+struct TrialEvent {
+  double time_s = 0;
+  int sender = -1;
+  std::string program;
+  std::string type;
+  std::string reason;
+};
+
 struct TrialResult {
   bool success = false;
   // "success", or the failure's status: the reason's prefix ("ik_failure", "collision", ...),
@@ -25,19 +35,30 @@ struct TrialResult {
   std::string status;
   std::string failure_reason;
   double duration_s = 0;  // simulated seconds of the scenario's program
-  int plan_calls = 0;
+  double sim_time_s = 0;  // simulated seconds of the whole trial, set-up included
+  int plan_calls = 0;     // planning calls (of the skillset; each may run OMPL several times)
   double planning_time_s = 0;
+  double trial_wall_s = 0;  // wall clock inside run_trial, set-up of the skillset included
+  mujoco::WorkRecord work;  // every plan call, IK, checks, the executed motion
+  std::vector<TrialEvent> events;
   std::vector<core::Message> log;  // every message, set-up included
   std::vector<core::RecordedSeries> series;
+  mujoco::StateRecording recording;  // empty unless asked for
+  std::vector<std::string> removed_debris;
 };
 
 // Called after set-up and at the end, for looking at the trial (renders).
 using TrialObserver =
     std::function<void(const std::string& moment, const mujoco::MujocoSkillset& skills)>;
 
+struct TrialOptions {
+  const PlannerConfig* planner = nullptr;  // default: the scenario's first planner
+  double record_rate_hz = 0;               // > 0: record the simulated state for replay
+};
+
 TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
                       std::uint64_t layout_seed, std::uint32_t seed,
-                      const core::ProgramRegistry& registry,
-                      const TrialObserver& observe = nullptr);
+                      const core::ProgramRegistry& registry, const TrialObserver& observe = nullptr,
+                      const TrialOptions& options = {});
 
 }  // namespace taskmatrix::harness

@@ -12,7 +12,7 @@ packages=(
   libeigen3-dev libyaml-cpp-dev liburdfdom-dev libtinyxml2-dev
   libbenchmark-dev libgtest-dev libgmock-dev
   libosmesa6-dev liblodepng-dev
-  libcli11-dev nlohmann-json3-dev
+  libcli11-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   ompl-demos ffmpeg
 )
 

@@ -77,6 +77,19 @@ class LayoutError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What a scenario asks of a layout; the backend turns it into a LayoutRequest with the
+// environment's regions and protected areas.
+struct ObstacleOptions {
+  int count = 0;
+  std::vector<std::string> regions;  // names of the environment's regions; empty: all
+  std::vector<ObstacleShape> shapes{ObstacleShape::kBox, ObstacleShape::kCylinder,
+                                    ObstacleShape::kSphere};
+  double footprint_min_m = 0.04;  // as LayoutRequest
+  double footprint_max_m = 0.12;
+  double half_height_min_m = 0.05;
+  double half_height_max_m = 0.30;
+};
+
 // Throws LayoutError when the request is inconsistent or `count` obstacles cannot be placed.
 ObstacleLayout generate_layout(const LayoutRequest& request, std::uint64_t seed);
 

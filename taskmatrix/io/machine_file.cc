@@ -127,7 +127,10 @@ core::MachineSpec load_machine_spec(const std::filesystem::path& file) {
 }
 
 void load_and_register_machine(const std::filesystem::path& file, core::ProgramRegistry& registry) {
-  const YamlNode root = YamlNode::load_file(file);
+  register_machine_node(YamlNode::load_file(file), registry);
+}
+
+std::string register_machine_node(const YamlNode& root, core::ProgramRegistry& registry) {
   Lines lines;
   const core::MachineSpec spec = read(root, &lines);
   try {
@@ -149,8 +152,13 @@ void load_and_register_machine(const std::filesystem::path& file, core::ProgramR
         line = lines.transitions[k].second;
       }
     }
-    throw core::InputError(file.string(), key, what, line);
+    if (key.empty()) {
+      key = root.key();
+      line = root.line();
+    }
+    throw core::InputError(root.file(), key, what, line);
   }
+  return spec.name;
 }
 
 }  // namespace taskmatrix::io

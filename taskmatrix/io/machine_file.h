@@ -22,6 +22,7 @@
 #include <filesystem>
 
 #include "taskmatrix/core/state_machine.h"
+#include "taskmatrix/io/yaml_reader.h"
 
 namespace taskmatrix::io {
 
@@ -30,5 +31,8 @@ core::MachineSpec load_machine_spec(const std::filesystem::path& file);
 // Reads, checks against `registry` and registers it. Errors from the check name the file
 // and the state or transition (with its line).
 void load_and_register_machine(const std::filesystem::path& file, core::ProgramRegistry& registry);
+// The same for a machine written inside another document (a scenario's `machine:`).
+// Returns the name it registered under.
+std::string register_machine_node(const YamlNode& root, core::ProgramRegistry& registry);
 
 }  // namespace taskmatrix::io

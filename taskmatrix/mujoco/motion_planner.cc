@@ -73,6 +73,20 @@ std::mutex& planning_mutex() {
   return m;
 }
 
+void use_quiet_output() {
+  static QuietOmplOutput quiet;
+  ompl::msg::useOutputHandler(&quiet);
+}
+
+// OMPL's setParam returns false for some bad values and throws for others.
+bool set_param(ob::Planner& planner, const std::string& key, const std::string& value) {
+  try {
+    return planner.params().setParam(key, value);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -83,6 +97,36 @@ std::vector<std::string> planner_names() {
   std::vector<std::string> names;
   for (const auto& [name, f] : factories()) names.push_back(name);
   return names;
+}
+
+std::string check_planner_spec(const PlannerSpec& spec) {
+  const auto factory = factories().find(spec.name);
+  if (factory == factories().end()) {
+    std::string known;
+    for (const auto& [name, f] : factories()) known += (known.empty() ? "" : ", ") + name;
+    return "unknown planner '" + spec.name + "' (known: " + known + ")";
+  }
+  std::lock_guard<std::mutex> lock(planning_mutex());
+  use_quiet_output();
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  space->setBounds(0.0, 1.0);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  si->setStateValidityChecker([](const ob::State*) { return true; });
+  si->setup();
+  ob::PlannerPtr planner = factory->second(si);
+  for (const auto& [key, value] : spec.params) {
+    if (!planner->params().hasParam(key)) {
+      std::vector<std::string> names;
+      planner->params().getParamNames(names);
+      std::string known;
+      for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+      return "planner " + spec.name + " has no parameter '" + key + "' (known: " + known + ")";
+    }
+    if (!set_param(*planner, key, value)) {
+      return "planner " + spec.name + " parameter " + key + " rejects '" + value + "'";
+    }
+  }
+  return "";
 }
 
 MotionPlanner::MotionPlanner(const Scene& scene, const mjModel* m, mjData* d,
@@ -146,8 +190,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   }
 
   std::lock_guard<std::mutex> lock(planning_mutex());
-  static QuietOmplOutput quiet;
-  ompl::msg::useOutputHandler(&quiet);
+  use_quiet_output();
   ompl::RNG::setSeed(o.seed);
 
   const std::vector<double> saved(d->qpos, d->qpos + m->nq);
@@ -248,7 +291,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
       return fail(core::PlanStatus::kInvalidInput,
                   "planner " + o.planner.name + " has no parameter '" + key + "'");
     }
-    if (!planner->params().setParam(key, value)) {
+    if (!set_param(*planner, key, value)) {
       restore();
       return fail(core::PlanStatus::kInvalidInput,
                   "planner parameter " + key + " rejects '" + value + "'");

@@ -26,6 +26,9 @@ using core::PlanOptions;
 
 // Planner names accepted by PlannerSpec, sorted.
 std::vector<std::string> planner_names();
+// "" if `spec` names a known planner and every parameter exists and accepts its value (checked
+// on a planner made for a small unit space); otherwise what is wrong.
+std::string check_planner_spec(const PlannerSpec& spec);
 
 class MotionPlanner {
  public:

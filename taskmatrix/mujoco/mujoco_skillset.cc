@@ -1,6 +1,7 @@
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -64,6 +65,21 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
   target_acc_.assign(m->njnt, 0.0);
   acc_full_.assign(m->nv, 0.0);
   mass_times_acc_.assign(m->nv, 0.0);
+  if (!(std::isfinite(options.clearance_rate_hz) && options.clearance_rate_hz >= 0) ||
+      !(std::isfinite(options.clearance_cap_m) && options.clearance_cap_m > 0)) {
+    throw std::invalid_argument("clearance rate must be >= 0 Hz and its cap > 0 m");
+  }
+  if (options.clearance_rate_hz > 0) {
+    clearance_every_ =
+        std::max(1, static_cast<int>(std::lround(1.0 / (options.clearance_rate_hz * period_))));
+  }
+  clearance_cap_m_ = options.clearance_cap_m;
+  for (const core::ChainInfo& chain : chains_) {
+    if (chain.end_effector.empty()) continue;
+    const FrameRef f = scene_->frame(chain.end_effector);
+    if (f.kind == FrameRef::Kind::kSite) ee_sites_.push_back(f.id);
+    if (f.kind == FrameRef::Kind::kBody) ee_bodies_.push_back(f.id);
+  }
   for (const auto& [name, spec] : scene_->environment().objects) {
     for (const std::string& b : spec.bodies) {
       const int body = mj_name2id(m, mjOBJ_BODY, b.c_str());
@@ -163,6 +179,7 @@ void MujocoSkillset::collect_debris() {
           up <= kDebrisPickupHeight) {
         m->body_pos[3 * flake.body + 2] = flake.pos.z() - 10.0;  // out of the world
         removed_debris_.push_back(flake.body);
+        if (record_every_ > 0) recording_.removals.push_back({worker_.data()->time, flake.body});
         any = true;
       }
     }
@@ -260,6 +277,8 @@ void MujocoSkillset::reset() {
     for (int i = 0; i < 3; ++i) worker_.model()->body_pos[3 * flake.body + i] = flake.pos[i];
   }
   removed_debris_.clear();
+  have_last_ = false;
+  have_accel_ = 0;
   worker_.reset_to_start();
   forget_obstacles();
   attachments_.clear();
@@ -419,8 +438,11 @@ core::IkResult MujocoSkillset::solve_ik(const std::vector<std::string>& chain_na
   }
   const BeliefScope belief(*this);
   sync_query();
-  return mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame, target, options,
-                          attachments_);
+  core::IkResult result = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame,
+                                           target, options, attachments_);
+  ++work_.ik_calls;
+  work_.ik_time_s += result.time_s;
+  return result;
 }
 
 bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
@@ -431,6 +453,7 @@ bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
   const BeliefScope belief(*this);
   sync_query();
   ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  ++work_.collision_checks;
   return !checker.in_collision(values.data());
 }
 
@@ -455,7 +478,7 @@ core::PlanResult MujocoSkillset::plan_to_configuration(const std::vector<std::st
   const BeliefScope belief(*this);
   sync_query();
   MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
-  return planner.plan({goal}, options);
+  return note_plan("configuration", planner.plan({goal}, options));
 }
 
 core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& chain_names,
@@ -463,6 +486,13 @@ core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& c
                                                const std::vector<core::Pose>& targets,
                                                const core::PlanOptions& options,
                                                const core::IkOptions& ik) {
+  return note_plan("poses", plan_to_poses_unrecorded(chain_names, frame, targets, options, ik));
+}
+
+core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
+    const std::vector<std::string>& chain_names, const std::string& frame,
+    const std::vector<core::Pose>& targets, const core::PlanOptions& options,
+    const core::IkOptions& ik) {
   std::vector<int> joints;
   if (auto bad = plan_joints(chain_names, joints)) return *bad;
   if (targets.empty()) return plan_failure(core::PlanStatus::kInvalidInput, "no target poses");
@@ -513,6 +543,12 @@ core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& c
 core::PlanResult MujocoSkillset::plan_to_region(const std::vector<std::string>& chain_names,
                                                 const core::GoalRegion& region,
                                                 const core::PlanOptions& options) {
+  return note_plan("region", plan_to_region_unrecorded(chain_names, region, options));
+}
+
+core::PlanResult MujocoSkillset::plan_to_region_unrecorded(
+    const std::vector<std::string>& chain_names, const core::GoalRegion& region,
+    const core::PlanOptions& options) {
   std::vector<int> joints;
   if (auto bad = plan_joints(chain_names, joints)) return *bad;
   if (!region.sample || region.max_draws <= 0 || region.max_goals <= 0) {
@@ -595,11 +631,115 @@ void MujocoSkillset::set_configuration(const std::vector<std::string>& chain_nam
     place_attachments(m, d, attachments_);
   }
   mj_forward(m, d);
+  have_last_ = false;  // a placement, not motion
+  have_accel_ = 0;
+  if (record_every_ > 0) record_frame();
+}
+
+core::PlanResult MujocoSkillset::note_plan(const char* kind, core::PlanResult result) {
+  PlanCallRecord r;
+  r.time_s = worker_.data()->time;
+  r.kind = kind;
+  r.status = core::to_string(result.status);
+  r.planner_runs = result.plan_calls;
+  r.planning_time_s = result.planning_time_s;
+  r.simplification_time_s = result.simplification_time_s;
+  r.simplification_hit_time_limit = result.simplification_hit_time_limit;
+  r.ik_time_s = result.ik_time_s;
+  r.collision_checks = result.collision_checks;
+  r.path_states = static_cast<int>(result.path.size());
+  for (size_t k = 1; k < result.path.size(); ++k) {
+    double sq = 0;
+    for (size_t i = 0; i < result.path[k].size(); ++i) {
+      const double dq = result.path[k][i] - result.path[k - 1][i];
+      sq += dq * dq;
+    }
+    r.path_length += std::sqrt(sq);
+  }
+  work_.collision_checks += result.collision_checks;
+  work_.plans.push_back(std::move(r));
+  return result;
+}
+
+void MujocoSkillset::record_states(double rate_hz) {
+  if (!(std::isfinite(rate_hz) && rate_hz >= 0)) {
+    throw std::invalid_argument("recording rate must be a non-negative number of Hz");
+  }
+  if (rate_hz == 0) {
+    record_every_ = 0;
+    return;
+  }
+  record_every_ = std::max(1, static_cast<int>(std::lround(1.0 / (rate_hz * period_))));
+  recording_ = StateRecording{};
+  recording_.nq = worker_.model()->nq;
+  recording_.frame_period_s = record_every_ * period_;
+  record_frame();
+}
+
+void MujocoSkillset::record_frame() {
+  const mjData* d = worker_.data();
+  recording_.times.push_back(d->time);
+  recording_.qpos.insert(recording_.qpos.end(), d->qpos, d->qpos + worker_.model()->nq);
+}
+
+void MujocoSkillset::monitor_period() {
+  const mjModel* m = worker_.model();
+  const mjData* d = worker_.data();
+  ++work_.control_periods;
+  if (record_every_ > 0 && work_.control_periods % record_every_ == 0) record_frame();
+  // Robot joints: positions, velocities; end effectors: positions.
+  std::vector<double> q, v, ee;
+  std::vector<int> moving;
+  for (const JointState& js : joint_state_) {
+    if (js.joint < 0) continue;
+    q.push_back(d->qpos[js.qpos_adr]);
+    v.push_back(d->qvel[js.dof_adr]);
+    if (target_vel_[js.joint] != 0) moving.push_back(js.joint);
+  }
+  for (int s : ee_sites_) ee.insert(ee.end(), d->site_xpos + 3 * s, d->site_xpos + 3 * s + 3);
+  for (int b : ee_bodies_) ee.insert(ee.end(), d->xpos + 3 * b, d->xpos + 3 * b + 3);
+  if (have_last_) {
+    double dq = 0;
+    for (size_t i = 0; i < q.size(); ++i) dq += (q[i] - last_q_[i]) * (q[i] - last_q_[i]);
+    work_.path_length_joint += std::sqrt(dq);
+    for (size_t i = 0; i + 2 < ee.size(); i += 3) {
+      work_.path_length_ee_m +=
+          std::hypot(ee[i] - last_ee_[i], ee[i + 1] - last_ee_[i + 1], ee[i + 2] - last_ee_[i + 2]);
+    }
+    std::vector<double> a(v.size());
+    for (size_t i = 0; i < v.size(); ++i) a[i] = (v[i] - last_v_[i]) / period_;
+    if (have_accel_ >= 1) {
+      double jerk_sq = 0;
+      for (size_t i = 0; i < a.size(); ++i) {
+        const double j = (a[i] - last_a_[i]) / period_;
+        jerk_sq += j * j;
+      }
+      work_.jerk_squared_sum += jerk_sq;
+      ++work_.jerk_samples;
+    }
+    last_a_ = std::move(a);
+    have_accel_ = 1;
+  }
+  last_q_ = std::move(q);
+  last_v_ = std::move(v);
+  last_ee_ = std::move(ee);
+  have_last_ = true;
+  if (clearance_every_ > 0 && !moving.empty() && work_.control_periods % clearance_every_ == 0) {
+    const BeliefScope belief(*this);
+    sync_query();
+    ValidityChecker checker(*scene_, m, query_.get(), moving, attachments_);
+    std::vector<double> values;
+    for (int j : moving) values.push_back(d->qpos[m->jnt_qposadr[j]]);
+    work_.min_clearance_m =
+        std::min(work_.min_clearance_m, checker.distance(values.data(), clearance_cap_m_));
+    ++work_.clearance_samples;
+  }
 }
 
 core::StepReport MujocoSkillset::advance() {
   const mjModel* m = worker_.model();
   mjData* d = worker_.data();
+  const auto t_step = std::chrono::steady_clock::now();
   core::StepReport report;
   const double t_end = d->time + period_;
   const int bad_before = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
@@ -637,6 +777,11 @@ core::StepReport MujocoSkillset::advance() {
   }
   mj_forward(m, d);
   collect_debris();
+  const auto t_monitor = std::chrono::steady_clock::now();
+  work_.stepping_wall_s += std::chrono::duration<double>(t_monitor - t_step).count();
+  monitor_period();
+  work_.monitoring_wall_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_monitor).count();
   const int bad_after = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
                         d->warning[mjWARN_BADQPOS].number;
   bool finite = true;

@@ -34,6 +34,7 @@
 #include "taskmatrix/core/skillset.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/mujoco/validity_checker.h"
+#include "taskmatrix/mujoco/work_record.h"
 
 namespace taskmatrix::mujoco {
 
@@ -44,6 +45,10 @@ inline constexpr double kDebrisPickupHeight = 0.06;   // m, tip above the flake'
 
 struct SimulationOptions {
   double control_rate_hz = 100.0;  // rounded to a whole number of model timesteps per period
+  // Execution monitoring (WorkRecord): how often the moving chains' clearance is sampled
+  // (0: never) and the distance it is capped at.
+  double clearance_rate_hz = 10.0;
+  double clearance_cap_m = 0.25;
 };
 
 class MujocoSkillset final : public core::Skillset {
@@ -75,6 +80,13 @@ class MujocoSkillset final : public core::Skillset {
   // Debris bodies removed since the last reset, in order of removal.
   const std::vector<int>& removed_debris() const { return removed_debris_; }
   bool removed(int body) const;
+
+  // What this skillset did since it was made (plans, IK, checks, executed motion).
+  const WorkRecord& work() const { return work_; }
+  // From now on, records the simulated state every `rate_hz`-th of a second of simulated time
+  // (at the nearest whole number of control periods; 0 stops), starting with the current state.
+  void record_states(double rate_hz);
+  const StateRecording& recording() const { return recording_; }
 
   const Scene& scene() const { return *scene_; }
   const mjModel* model() const { return worker_.model(); }
@@ -149,6 +161,18 @@ class MujocoSkillset final : public core::Skillset {
   // Visitor pose for the current time; debris under held tool tips.
   void drive_visitor(mjData* d, double time) const;
   void collect_debris();
+  core::PlanResult plan_to_poses_unrecorded(const std::vector<std::string>& chain_names,
+                                            const std::string& frame,
+                                            const std::vector<core::Pose>& targets,
+                                            const core::PlanOptions& options,
+                                            const core::IkOptions& ik);
+  core::PlanResult plan_to_region_unrecorded(const std::vector<std::string>& chain_names,
+                                             const core::GoalRegion& region,
+                                             const core::PlanOptions& options);
+  core::PlanResult note_plan(const char* kind, core::PlanResult result);
+  // After each control period: the executed motion's measures and the state recording.
+  void monitor_period();
+  void record_frame();
   // Throws std::logic_error when called from inside a query (a goal sampler's callback).
   void require_no_query(const char* what) const;
   int object_body(const std::string& object) const;  // -1 if not an object's body
@@ -190,6 +214,16 @@ class MujocoSkillset final : public core::Skillset {
   std::vector<int> tool_tips_;  // per environment tool: (body, tip site) pairs, flattened
   std::vector<int> removed_debris_;
   std::unique_ptr<HeadSensor> sensor_;  // made on the first scan_depth()
+  // Monitoring.
+  WorkRecord work_;
+  StateRecording recording_;
+  int record_every_ = 0;     // control periods per recorded frame; 0: not recording
+  int clearance_every_ = 0;  // control periods per clearance sample; 0: never
+  double clearance_cap_m_ = 0.25;
+  std::vector<int> ee_sites_, ee_bodies_;  // end effector frames of the chains
+  std::vector<double> last_q_, last_v_, last_a_, last_ee_;
+  bool have_last_ = false;
+  int have_accel_ = 0;  // 1 once an acceleration has been measured
 };
 
 }  // namespace taskmatrix::mujoco

@@ -389,6 +389,42 @@ core::LayoutRequest Scene::layout_request(int count) const {
   return req;
 }
 
+core::LayoutRequest Scene::layout_request(const core::ObstacleOptions& options) const {
+  core::LayoutRequest req = layout_request(options.count);
+  if (!options.regions.empty()) {
+    std::vector<core::ObstacleRegion> chosen;
+    for (const std::string& name : options.regions) {
+      const auto it = std::find_if(req.regions.begin(), req.regions.end(),
+                                   [&](const core::ObstacleRegion& r) { return r.name == name; });
+      if (it == req.regions.end()) {
+        std::string known;
+        for (const core::ObstacleRegion& r : req.regions)
+          known += (known.empty() ? "" : ", ") + r.name;
+        throw InputError(environment_.spec_file.string(), "obstacle_regions",
+                         "no region '" + name + "' (known: " + known + ")");
+      }
+      chosen.push_back(*it);
+    }
+    req.regions = std::move(chosen);
+  }
+  req.shapes = options.shapes;
+  req.footprint_min_m = options.footprint_min_m;
+  req.footprint_max_m = options.footprint_max_m;
+  req.half_height_min_m = options.half_height_min_m;
+  req.half_height_max_m = options.half_height_max_m;
+  return req;
+}
+
+core::ObstacleLayout Scene::make_layout(const core::ObstacleOptions& options,
+                                        std::uint64_t seed) const {
+  const core::LayoutRequest request = layout_request(options);
+  try {
+    return core::generate_layout(request, seed);
+  } catch (const core::LayoutError& e) {
+    throw InputError(environment_.spec_file.string(), "obstacle_regions", e.what());
+  }
+}
+
 core::ObstacleLayout Scene::make_layout(int count, std::uint64_t seed) const {
   const core::LayoutRequest request = layout_request(count);
   try {

@@ -91,6 +91,10 @@ class Scene {
   // generate_layout(layout_request(count), seed), with a failure reported as an InputError
   // naming the environment file's obstacle_regions.
   core::ObstacleLayout make_layout(int count, std::uint64_t seed) const;
+  // The same with a scenario's options: regions by name (an unknown name throws
+  // core::InputError naming the environment file's obstacle_regions), shapes and sizes.
+  core::LayoutRequest layout_request(const core::ObstacleOptions& options) const;
+  core::ObstacleLayout make_layout(const core::ObstacleOptions& options, std::uint64_t seed) const;
 
  private:
   Scene() = default;

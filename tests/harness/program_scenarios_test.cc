@@ -21,8 +21,8 @@ const std::vector<std::string> kPrograms = {"reach",  "position", "grasp",    "r
                                             "fixate", "explore",  "postural", "canned",
                                             "pickup", "putdown",  "greet",    "vacuum"};
 
-const core::ProgramRegistry& registry() {
-  static const core::ProgramRegistry r = [] {
+core::ProgramRegistry& registry() {
+  static core::ProgramRegistry r = [] {
     core::ProgramRegistry out;
     programs::register_programs(out);
     return out;

@@ -1,0 +1,158 @@
+#include "harness/ompl_log.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "harness/provenance.h"
+
+namespace taskmatrix::harness {
+
+namespace {
+
+std::string one_token(std::string s) {
+  for (char& c : s) {
+    if (c == ' ' || c == '\t' || c == '\n' || c == ';' || c == '|') c = '_';
+  }
+  return s.empty() ? "unnamed" : s;
+}
+
+std::string real(const nlohmann::json& v) {
+  if (!v.is_number()) return "nan";
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) return "nan";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", d);
+  return buf;
+}
+
+std::string integer(const nlohmann::json& v) {
+  if (!v.is_number()) return "nan";
+  return std::to_string(static_cast<long long>(v.get<double>()));
+}
+
+// Multi-line values may not contain the closing marker.
+std::string block(std::string text) {
+  std::string out;
+  size_t pos = 0;
+  while (pos < text.size()) {
+    const size_t eol = text.find('\n', pos);
+    std::string line = text.substr(pos, eol == std::string::npos ? std::string::npos : eol - pos);
+    if (line.rfind("|>>>", 0) == 0) line = " " + line;
+    out += line + "\n";
+    if (eol == std::string::npos) break;
+    pos = eol + 1;
+  }
+  return out;
+}
+
+struct Enum {
+  std::string name;
+  std::vector<std::string> values;
+  int index(const std::string& v) const {
+    return static_cast<int>(std::find(values.begin(), values.end(), v) - values.begin());
+  }
+};
+
+}  // namespace
+
+std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> trials) {
+  std::sort(trials.begin(), trials.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
+    return a.value("trial_id", std::string()) < b.value("trial_id", std::string());
+  });
+  // Enumerations over what the trials hold.
+  std::vector<Enum> enums = {
+      {"status", {}}, {"scenario", {}}, {"program", {}}, {"robot", {}}, {"environment", {}}};
+  for (const nlohmann::json& t : trials) {
+    for (Enum& e : enums) {
+      const std::string v = one_token(t.value(e.name, std::string("unknown")));
+      if (std::find(e.values.begin(), e.values.end(), v) == e.values.end()) e.values.push_back(v);
+    }
+  }
+  for (Enum& e : enums) std::sort(e.values.begin(), e.values.end());
+  std::map<std::string, std::vector<const nlohmann::json*>> by_planner;
+  for (const nlohmann::json& t : trials) by_planner[t.value("planner", "")].push_back(&t);
+
+  std::string out;
+  out += "OMPL version " + ompl_version() + "\n";
+  out += "Experiment " + one_token(info.experiment) + "\n";
+  out += "Running on " + one_token(info.hostname) + "\n";
+  out += "Starting at " + info.date + "\n";
+  out += "<<<|\n" + block(info.setup) + "|>>>\n";
+  out += "<<<|\n" + block(info.cpuinfo) + "|>>>\n";
+  out += std::to_string(info.seed) + " is the random seed\n";
+  out += real(info.time_limit_s) + " seconds per run\n";
+  out += "0 MB per run\n";
+  size_t per_planner = 0;
+  for (const auto& [label, list] : by_planner) per_planner = std::max(per_planner, list.size());
+  out += std::to_string(per_planner) + " runs per planner\n";
+  out += real(info.total_time_s) + " seconds spent to collect the data\n";
+  out += std::to_string(enums.size()) + " enum types\n";
+  for (const Enum& e : enums) {
+    out += e.name;
+    for (const std::string& v : e.values) out += "|" + v;
+    out += "\n";
+  }
+  static const std::vector<std::pair<const char*, const char*>> properties = {
+      {"time REAL", "planning_time_s"},
+      {"simplification time REAL", "simplification_time_s"},
+      {"solved BOOLEAN", "success"},
+      {"status ENUM", "status"},
+      {"scenario ENUM", "scenario"},
+      {"program ENUM", "program"},
+      {"robot ENUM", "robot"},
+      {"environment ENUM", "environment"},
+      {"layout seed INTEGER", "layout_seed"},
+      {"seed INTEGER", "seed"},
+      {"plan calls INTEGER", "plan_calls"},
+      {"collision checks INTEGER", "collision_checks"},
+      {"ik time REAL", "ik_time_s"},
+      {"path length joint REAL", "path_length_joint"},
+      {"path length ee REAL", "path_length_ee_m"},
+      {"duration REAL", "duration_s"},
+      {"smoothness REAL", "smoothness"},
+      {"min clearance REAL", "min_clearance_m"},
+      {"wall time REAL", "wall_time_s"},
+      {"memory REAL", "peak_memory_mb"},
+  };
+  std::vector<const OmplLogInfo::Planner*> planners;
+  for (const OmplLogInfo::Planner& p : info.planners) {
+    if (by_planner.count(p.label)) planners.push_back(&p);
+  }
+  out += std::to_string(planners.size()) + " planners\n";
+  for (const OmplLogInfo::Planner* p : planners) {
+    out += "geometric_" + one_token(p->label) + "\n";
+    out += std::to_string(p->params.size() + 1) + " common properties\n";
+    out += "planner STRING = " + one_token(p->name) + "\n";
+    for (const auto& [k, v] : p->params) out += one_token(k) + " STRING = " + one_token(v) + "\n";
+    out += std::to_string(properties.size()) + " properties for each run\n";
+    for (const auto& [decl, key] : properties) out += std::string(decl) + "\n";
+    const auto& list = by_planner.at(p->label);
+    out += std::to_string(list.size()) + " runs\n";
+    for (const nlohmann::json* t : list) {
+      for (const auto& [decl, key] : properties) {
+        const std::string d(decl);
+        const nlohmann::json& v = t->contains(key) ? (*t)[key] : nlohmann::json(nullptr);
+        if (d.find(" ENUM") != std::string::npos) {
+          const Enum& e = *std::find_if(enums.begin(), enums.end(),
+                                        [&](const Enum& x) { return x.name == key; });
+          out +=
+              std::to_string(e.index(one_token(v.is_string() ? v.get<std::string>() : "unknown")));
+        } else if (d.find(" BOOLEAN") != std::string::npos) {
+          out += v.is_boolean() && v.get<bool>() ? "1" : "0";
+        } else if (d.find(" INTEGER") != std::string::npos) {
+          out += integer(v);
+        } else {
+          out += real(v);
+        }
+        out += "; ";
+      }
+      out += "\n";
+    }
+    out += ".\n";
+  }
+  return out;
+}
+
+}  // namespace taskmatrix::harness

@@ -1,0 +1,338 @@
+#include "harness/run_job.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <map>
+#include <ostream>
+#include <set>
+
+#include "harness/ompl_log.h"
+#include "harness/provenance.h"
+#include "harness/summary.h"
+#include "harness/trajectory_file.h"
+#include "harness/trial.h"
+#include "harness/trial_matrix.h"
+#include "harness/trial_record.h"
+#include "harness/worker_pool.h"
+#include "taskmatrix/core/input_error.h"
+#include "taskmatrix/io/text_file.h"
+#include "taskmatrix/mujoco/scene.h"
+
+namespace taskmatrix::harness {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using SceneMap =
+    std::map<std::pair<std::string, std::string>, std::shared_ptr<const mujoco::Scene>>;
+
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void on_stop_signal(int) { g_stop = 1; }
+
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {
+  }, old_term_{};
+};
+
+struct Prepared {
+  RunPlan plan;
+  std::vector<TrialSpec> matrix;
+  SceneMap scenes;
+};
+
+// Loads the plan and every scene it needs, and draws every trial's layout once, so that a
+// bad file, model or layout request stops the run before anything is written.
+Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
+                 const std::filesystem::path& file, const RunOverrides& overrides,
+                 const std::string& only) {
+  Prepared p;
+  if (!std::filesystem::is_regular_file(file)) {
+    throw core::InputError(file.string(), "", "no such scenario or suite file");
+  }
+  p.plan = load_run_plan(file, catalog, registry);
+  apply_overrides(p.plan, overrides);
+  p.matrix =
+      only.empty() ? trial_matrix(p.plan) : std::vector<TrialSpec>{parse_trial_id(p.plan, only)};
+  for (const TrialSpec& t : p.matrix) {
+    auto& scene = p.scenes[{t.robot, t.environment}];
+    if (!scene) {
+      scene =
+          mujoco::Scene::load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
+    }
+    const Scenario& s = p.plan.scenarios[static_cast<size_t>(t.scenario)];
+    try {
+      scene->make_layout(s.obstacles, t.layout_seed);
+    } catch (const core::InputError& e) {
+      throw core::InputError(s.file.string(), "obstacles",
+                             "cannot lay out trial " + t.id + ": " + e.what());
+    }
+  }
+  return p;
+}
+
+std::string format_duration(double s) {
+  char buf[32];
+  if (s >= 3600) {
+    std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s / 3600),
+                  static_cast<int>(s / 60) % 60);
+  } else if (s >= 60) {
+    std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s / 60), static_cast<int>(s) % 60);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.0fs", s);
+  }
+  return buf;
+}
+
+// Appends one line and makes it durable before the next trial is reported.
+class TrialsWriter {
+ public:
+  explicit TrialsWriter(const std::filesystem::path& file) {
+    fd_ = open(file.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw std::runtime_error(file.string() + ": cannot open for appending");
+  }
+  ~TrialsWriter() {
+    if (fd_ >= 0) close(fd_);
+  }
+  TrialsWriter(const TrialsWriter&) = delete;
+  TrialsWriter& operator=(const TrialsWriter&) = delete;
+  void append(const std::string& line) {
+    const std::string text = line + "\n";
+    size_t done = 0;
+    while (done < text.size()) {
+      const ssize_t n = write(fd_, text.data() + done, text.size() - done);
+      if (n < 0) throw std::runtime_error("trials.jsonl: write failed");
+      done += static_cast<size_t>(n);
+    }
+    fdatasync(fd_);
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+OmplLogInfo ompl_info(const RunPlan& plan, const nlohmann::json& provenance, double total_s) {
+  OmplLogInfo info;
+  info.experiment = plan.name;
+  info.setup = plan.suite ? plan.text : "";
+  for (const Scenario& s : plan.scenarios)
+    info.setup += "# " + s.file.string() + "\n" + s.program_text;
+  info.hostname = host_name();
+  info.cpuinfo = cpu_model();
+  info.date = provenance.value("started_at", utc_now_iso());
+  info.seed = plan.scenarios.empty() ? 1 : plan.scenarios[0].seed;
+  for (const Scenario& s : plan.scenarios)
+    info.time_limit_s = std::max(info.time_limit_s, s.wall_limit_s);
+  info.total_time_s = total_s;
+  for (const Scenario& s : plan.scenarios) {
+    for (const PlannerConfig& pc : s.planners) {
+      const bool seen =
+          std::any_of(info.planners.begin(), info.planners.end(),
+                      [&](const OmplLogInfo::Planner& q) { return q.label == pc.label; });
+      if (seen) continue;
+      OmplLogInfo::Planner p{pc.label, pc.spec.name, {}};
+      for (const auto& [k, v] : pc.spec.params) p.params.emplace_back(k, v);
+      info.planners.push_back(std::move(p));
+    }
+  }
+  return info;
+}
+
+}  // namespace
+
+int validate_run_plan(const ModelCatalog& catalog, core::ProgramRegistry& registry,
+                      const std::filesystem::path& file) {
+  return static_cast<int>(prepare(catalog, registry, file, {}, "").matrix.size());
+}
+
+RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registry,
+                     const RunJobOptions& options, std::ostream& out, std::ostream& err) {
+  const Clock::time_point t_start = Clock::now();
+  if (options.jobs < 1 || options.jobs > 256)
+    throw core::InputError("--jobs", "", "must be in 1..256");
+  Prepared p = prepare(catalog, registry, options.scenario_file, options.overrides, options.only);
+  const RunPlan& plan = p.plan;
+  RunJobResult result;
+  result.planned = static_cast<int>(p.matrix.size());
+
+  const bool write_dir = options.only.empty() || !options.out.empty();
+  if (write_dir) {
+    result.dir =
+        options.out.empty() ? catalog.root() / "results" / "runs" / plan.name : options.out;
+  }
+  const std::filesystem::path trials_file = result.dir / "trials.jsonl";
+  const std::string hash = "sha256:" + plan_hash(plan);
+  std::vector<nlohmann::json> kept;
+  if (write_dir) {
+    std::filesystem::create_directories(result.dir / "trajectories");
+    if (options.resume) {
+      const std::filesystem::path prov = result.dir / "provenance.json";
+      if (std::filesystem::exists(prov)) {
+        nlohmann::json old = nlohmann::json::parse(io::read_text_file(prov), nullptr, false);
+        if (!old.is_discarded() && old.value("scenario_hash", hash) != hash) {
+          throw core::InputError(result.dir.string(), "--resume",
+                                 "the run there was made from different scenario files (" +
+                                     old.value("scenario_hash", std::string("?")) + ", now " +
+                                     hash + "); choose another --out");
+        }
+      }
+      TrialsFile existing = read_trials_file(trials_file);
+      if (existing.torn_tail) {
+        std::filesystem::resize_file(trials_file, existing.valid_bytes);
+        err << "taskmatrix: resume: dropped a torn last line of " << trials_file.string() << "\n";
+      }
+      kept = std::move(existing.trials);
+    } else {
+      for (const char* name : {"trials.jsonl", "summary.json", "summary.md", "ompl.log"}) {
+        std::filesystem::remove(result.dir / name);
+      }
+      for (const auto& entry : std::filesystem::directory_iterator(result.dir / "trajectories")) {
+        std::filesystem::remove(entry.path());
+      }
+    }
+  }
+  std::set<std::string> done;
+  for (const nlohmann::json& t : kept) done.insert(t.value("trial_id", std::string()));
+  std::vector<const TrialSpec*> pending;
+  for (const TrialSpec& t : p.matrix) {
+    if (!done.count(t.id)) pending.push_back(&t);
+  }
+
+  nlohmann::json provenance =
+      make_provenance(plan, catalog.root(), options.command_line, options.jobs);
+  if (write_dir) write_file_atomically(result.dir / "provenance.json", provenance.dump(2) + "\n");
+
+  const bool progress =
+      options.progress == RunJobOptions::Progress::kOn ||
+      (options.progress == RunJobOptions::Progress::kAuto && isatty(STDERR_FILENO));
+  std::unique_ptr<TrialsWriter> writer;
+  if (write_dir) writer = std::make_unique<TrialsWriter>(trials_file);
+  std::vector<nlohmann::json> finished = kept;
+  int successes = 0;
+  for (const nlohmann::json& t : kept) successes += t.value("success", false) ? 1 : 0;
+  const bool keep_trajectories = write_dir && options.record_rate_hz > 0;
+
+  auto work = [&](size_t i) -> std::string {
+    const TrialSpec& t = *pending[i];
+    const Scenario& s = plan.scenarios[static_cast<size_t>(t.scenario)];
+    const auto& scene = p.scenes.at({t.robot, t.environment});
+    TrialOptions topt;
+    topt.planner = &s.planners[static_cast<size_t>(t.planner)];
+    topt.record_rate_hz = keep_trajectories ? options.record_rate_hz : 0;
+    const TrialResult r = run_trial(s, scene, t.layout_seed, t.seed, registry, nullptr, topt);
+    nlohmann::json j = trial_json(plan, t, r);
+    if (keep_trajectories) {
+      TrajectoryFile file;
+      file.robot = t.robot;
+      file.environment = t.environment;
+      file.layout = scene->make_layout(s.obstacles, t.layout_seed);
+      file.recording = r.recording;
+      file.removed_bodies = r.removed_debris;
+      const std::string rel = "trajectories/" + t.id + ".traj.gz";
+      write_trajectory_file(result.dir / rel, file);
+      j["trajectory"] = rel;
+      j["trajectory_frames"] = r.recording.frames();
+    }
+    return j.dump();
+  };
+  auto wall_limit = [&](size_t i) {
+    return plan.scenarios[static_cast<size_t>(pending[i]->scenario)].wall_limit_s;
+  };
+  const Clock::time_point t_trials = Clock::now();
+  int ran = 0;
+  auto on_done = [&](size_t i, const WorkerOutcome& o) {
+    const TrialSpec& t = *pending[i];
+    nlohmann::json j;
+    if (o.has_result) {
+      j = nlohmann::json::parse(o.payload, nullptr, false);
+      if (j.is_discarded()) {
+        j = failed_trial_json(plan, t, "crash", "crash: the worker's result is not JSON");
+      }
+    } else {
+      j = failed_trial_json(plan, t, o.status, o.reason);
+    }
+    j["wall_time_s"] = o.wall_s;
+    j["peak_memory_mb"] = o.peak_memory_mb;
+    // What the harness adds to the trial: all but planning (IK for pose goals and the
+    // programs' IK included), simplification and the simulation's stepping.
+    if (j["planning_time_s"].is_number() && j["stepping_wall_s"].is_number()) {
+      j["overhead_s"] = o.wall_s - j["planning_time_s"].get<double>() -
+                        j["simplification_time_s"].get<double>() - j["ik_time_s"].get<double>() -
+                        j["stepping_wall_s"].get<double>();
+    } else {
+      j["overhead_s"] = nullptr;
+    }
+    const std::string line = j.dump();
+    if (writer) writer->append(line);
+    if (!options.only.empty()) out << line << "\n" << std::flush;
+    successes += j.value("success", false) ? 1 : 0;
+    finished.push_back(std::move(j));
+    ++ran;
+    if (progress) {
+      const double elapsed = std::chrono::duration<double>(Clock::now() - t_trials).count();
+      const double eta =
+          elapsed / ran * static_cast<double>(pending.size() - static_cast<size_t>(ran));
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "\r[%zu/%d] success %d/%zu (%.0f%%)  elapsed %s  ETA %s   ",
+                    finished.size(), result.planned, successes, finished.size(),
+                    100.0 * successes / static_cast<double>(finished.size()),
+                    format_duration(elapsed).c_str(), format_duration(eta).c_str());
+      err << buf << std::flush;
+    }
+  };
+
+  {
+    StopSignals signals;
+    WorkerPoolOptions pool;
+    pool.jobs = options.jobs;
+    pool.stop = &g_stop;
+    run_in_workers(pending.size(), pool, work, wall_limit, on_done);
+    result.interrupted = g_stop != 0;
+  }
+  if (progress) err << "\n";
+  writer.reset();
+  result.ran = ran;
+  result.finished = static_cast<int>(finished.size());
+  result.successes = successes;
+  const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
+  if (write_dir) {
+    RunInfo info{plan.name, plan.doc, result.planned, result.interrupted, wall, options.jobs};
+    const nlohmann::json summary = make_summary(info, finished);
+    write_summary(result.dir, summary);
+    write_file_atomically(result.dir / "ompl.log",
+                          ompl_log_text(ompl_info(plan, provenance, wall), finished));
+    provenance["finished_at"] = utc_now_iso();
+    provenance["wall_s"] = wall;
+    provenance["trials"] = {{"planned", result.planned},
+                            {"finished", result.finished},
+                            {"ran_now", ran},
+                            {"resumed_from", kept.size()},
+                            {"interrupted", result.interrupted}};
+    write_file_atomically(result.dir / "provenance.json", provenance.dump(2) + "\n");
+    if (options.only.empty()) out << summary_markdown(summary);
+  }
+  return result;
+}
+
+}  // namespace taskmatrix::harness

@@ -1,0 +1,42 @@
+// summary.json and summary.md of a run: per scenario (program), robot, environment and
+// planner, the success rate with a 95% Wilson score interval, the status counts, planning
+// time (median and 90th percentile over the group's trials, all trials included) and the
+// medians of path lengths, duration and wall time. Trials are taken in id order, so the
+// summary of a run does not depend on the order trials finished in.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace taskmatrix::harness {
+
+struct Interval {
+  double low = 0, high = 0;
+};
+// Wilson score interval for `successes` of `n` at normal quantile z (1.96: 95%). n = 0: [0, 1].
+Interval wilson_interval(int successes, int n, double z = 1.959963984540054);
+// Linear interpolation between closest ranks (R's type 7); NaN for no values.
+double quantile(std::vector<double> values, double q);
+
+struct RunInfo {
+  std::string name;
+  std::string doc;
+  int planned_trials = 0;  // of the matrix (so a partial run says how far it got)
+  bool interrupted = false;
+  double wall_s = 0;  // of this invocation
+  int jobs = 1;
+};
+
+nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials);
+std::string summary_markdown(const nlohmann::json& summary);
+// Writes summary.json and summary.md into `dir` (each atomically).
+void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary);
+
+// Writes `text` to `file` through a temporary file and a rename.
+void write_file_atomically(const std::filesystem::path& file, const std::string& text);
+
+}  // namespace taskmatrix::harness

@@ -1,0 +1,86 @@
+#include "harness/trial_matrix.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "taskmatrix/core/input_error.h"
+
+namespace taskmatrix::harness {
+
+std::string trial_id(const std::string& scenario, const std::string& robot,
+                     const std::string& environment, const std::string& planner,
+                     std::uint64_t layout_seed, std::uint32_t seed) {
+  return scenario + "." + robot + "." + environment + "." + planner + ".l" +
+         std::to_string(layout_seed) + ".s" + std::to_string(seed);
+}
+
+std::vector<TrialSpec> trial_matrix(const RunPlan& plan) {
+  std::vector<TrialSpec> out;
+  for (size_t i = 0; i < plan.scenarios.size(); ++i) {
+    const Scenario& s = plan.scenarios[i];
+    for (const std::string& robot : s.robots) {
+      for (const std::string& env : s.environments) {
+        for (size_t p = 0; p < s.planners.size(); ++p) {
+          for (int k = 0; k < s.trials; ++k) {
+            TrialSpec t;
+            t.scenario = static_cast<int>(i);
+            t.robot = robot;
+            t.environment = env;
+            t.planner = static_cast<int>(p);
+            t.layout_seed = s.layout_seed + static_cast<std::uint64_t>(k);
+            t.seed = s.seed + static_cast<std::uint32_t>(k);
+            t.id = trial_id(s.name, robot, env, s.planners[p].label, t.layout_seed, t.seed);
+            out.push_back(std::move(t));
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+TrialSpec parse_trial_id(const RunPlan& plan, const std::string& id) {
+  std::vector<std::string> parts;
+  std::stringstream in(id);
+  for (std::string part; std::getline(in, part, '.');) parts.push_back(part);
+  auto fail = [&](const std::string& why) -> TrialSpec {
+    throw core::InputError("--only", "", "trial id '" + id + "': " + why);
+  };
+  if (parts.size() != 6) {
+    return fail("expected <scenario>.<robot>.<environment>.<planner>.l<layout seed>.s<seed>");
+  }
+  TrialSpec t;
+  const auto scenario = std::find_if(plan.scenarios.begin(), plan.scenarios.end(),
+                                     [&](const Scenario& s) { return s.name == parts[0]; });
+  if (scenario == plan.scenarios.end()) return fail("no scenario '" + parts[0] + "' in this run");
+  t.scenario = static_cast<int>(scenario - plan.scenarios.begin());
+  auto member = [&](const std::vector<std::string>& list, const std::string& v, const char* what) {
+    if (std::find(list.begin(), list.end(), v) == list.end()) {
+      fail(std::string("the scenario has no ") + what + " '" + v + "'");
+    }
+  };
+  member(scenario->robots, parts[1], "robot");
+  member(scenario->environments, parts[2], "environment");
+  t.robot = parts[1];
+  t.environment = parts[2];
+  const auto planner = std::find_if(scenario->planners.begin(), scenario->planners.end(),
+                                    [&](const PlannerConfig& p) { return p.label == parts[3]; });
+  if (planner == scenario->planners.end()) fail("the scenario has no planner '" + parts[3] + "'");
+  t.planner = static_cast<int>(planner - scenario->planners.begin());
+  auto number = [&](const std::string& part, char prefix) -> unsigned long long {
+    if (part.size() < 2 || part[0] != prefix ||
+        !std::all_of(part.begin() + 1, part.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
+        part.size() > 11) {
+      fail(std::string("expected ") + prefix + "<number>, not '" + part + "'");
+    }
+    return std::stoull(part.substr(1));
+  };
+  t.layout_seed = number(parts[4], 'l');
+  const unsigned long long seed = number(parts[5], 's');
+  if (seed < 1 || seed > 0xffffffffULL) fail("the planner seed must be in 1..4294967295");
+  t.seed = static_cast<std::uint32_t>(seed);
+  t.id = id;
+  return t;
+}
+
+}  // namespace taskmatrix::harness

@@ -1,0 +1,72 @@
+// What one worker's skillset did, for the harness's metrics and replays: every plan call, the
+// IK and collision-check work, the executed motion measured each control period, and a
+// compact recording of the simulated state.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace taskmatrix::mujoco {
+
+// One public planning call (plan_to_configuration, plan_to_poses or plan_to_region).
+struct PlanCallRecord {
+  double time_s = 0;           // simulated time of the call
+  std::string kind;            // "configuration", "poses", "region"
+  std::string status;          // core::to_string(PlanStatus)
+  int planner_runs = 0;        // OMPL solves behind the call (one per pose tried)
+  double planning_time_s = 0;  // OMPL solve, wall clock
+  double simplification_time_s = 0;
+  bool simplification_hit_time_limit = false;
+  double ik_time_s = 0;  // inverse kinematics for pose goals
+  std::uint64_t collision_checks = 0;
+  double path_length = 0;  // of the returned path, in joint space (rad and m)
+  int path_states = 0;
+};
+
+struct WorkRecord {
+  std::vector<PlanCallRecord> plans;
+  int ik_calls = 0;  // solve_ik calls by programs (IK inside plan_to_poses is in `plans`)
+  double ik_time_s = 0;
+  // Validity checks: the planners' (states and motion steps) plus is_valid calls.
+  std::uint64_t collision_checks = 0;
+  // Execution: control periods simulated and the wall time spent stepping them (physics,
+  // feed-forward, the visitor and attachments), and the wall time spent measuring below.
+  long control_periods = 0;
+  double stepping_wall_s = 0;
+  double monitoring_wall_s = 0;
+  // The executed motion of the robot's joints (all chains, base included).
+  double path_length_joint = 0;  // sum over periods of |q(t) - q(t - T)| (rad and m mixed)
+  double path_length_ee_m = 0;   // sum over end effectors of their Cartesian path length
+  double jerk_squared_sum = 0;   // of |dddq| by finite differences of joint velocities
+  long jerk_samples = 0;
+  // Smallest distance between the moving chains (and what they hold) and everything they
+  // may touch, sampled while any chain is commanded to move; infinity when never sampled.
+  // Capped at the monitor's cap. Touching a grasped or placed object counts as 0.
+  double min_clearance_m = std::numeric_limits<double>::infinity();
+  long clearance_samples = 0;
+
+  double planning_time_s() const;
+  double simplification_time_s() const;
+  double plan_ik_time_s() const;
+  int planner_runs() const;
+  double jerk_rms() const;  // NaN without samples
+};
+
+// The simulated state at a fixed rate: every generalized position (robot, objects, visitor)
+// as float, and the times debris flakes were removed (they are moved in the model, not qpos).
+struct StateRecording {
+  int nq = 0;
+  double frame_period_s = 0;
+  std::vector<double> times;  // one per frame
+  std::vector<float> qpos;    // frames x nq
+  struct Removal {
+    double time_s;
+    int body;
+  };
+  std::vector<Removal> removals;
+  size_t frames() const { return times.size(); }
+};
+
+}  // namespace taskmatrix::mujoco

@@ -1,0 +1,233 @@
+// Scenario and suite files, the trial matrix and its ids, and the statistics of summaries.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "harness/run_job.h"
+#include "harness/scenario.h"
+#include "harness/summary.h"
+#include "harness/trial_matrix.h"
+#include "taskmatrix/core/input_error.h"
+#include "taskmatrix/programs/primitives.h"
+#include "tests/test_support.h"
+
+namespace taskmatrix::harness {
+namespace {
+
+class ScenarioFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/taskmatrix_scenarios_XXXXXX";
+    dir_ = mkdtemp(tmpl);
+    programs::register_programs(registry_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+  // The message of the InputError that loading `text` throws ("" if none).
+  std::string error_of(const std::string& text) {
+    const auto file = write("bad.yaml", text);
+    try {
+      load_run_plan(file, test::catalog(), registry_);
+    } catch (const core::InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  std::filesystem::path dir_;
+  core::ProgramRegistry registry_;
+};
+
+constexpr const char* kReach =
+    "program: reach\nparams: {object: cup}\nrobots: [minibot]\nenvironments: [kitchen]\n";
+
+TEST_F(ScenarioFiles, ReadsPlannersObstaclesAndLimits) {
+  const auto file =
+      write("s.yaml", std::string(kReach) +
+                          "planners:\n"
+                          "  - RRTConnect\n"
+                          "  - {name: RRTConnect, label: short_range, params: {range: 0.3}}\n"
+                          "obstacles: {count: 5, regions: [floor], shapes: [box, sphere],\n"
+                          "            footprint_m: [0.05, 0.08], half_height_m: [0.1, 0.2]}\n"
+                          "trials: 3\nlayout_seed: 10\nseed: 7\nwall_limit_s: 30\n");
+  const RunPlan plan = load_run_plan(file, test::catalog(), registry_);
+  ASSERT_EQ(plan.scenarios.size(), 1u);
+  const Scenario& s = plan.scenarios[0];
+  EXPECT_EQ(s.name, "s");
+  ASSERT_EQ(s.planners.size(), 2u);
+  EXPECT_EQ(s.planners[1].label, "short_range");
+  EXPECT_EQ(s.planners[1].spec.params.at("range"), "0.3");
+  EXPECT_EQ(s.obstacles.count, 5);
+  EXPECT_EQ(s.obstacles.regions, std::vector<std::string>{"floor"});
+  EXPECT_EQ(s.obstacles.shapes.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.obstacles.footprint_max_m, 0.08);
+  EXPECT_DOUBLE_EQ(s.wall_limit_s, 30.0);
+  // The matrix: 1 robot x 1 environment x 2 planners x 3 trials, seeds counting up.
+  const std::vector<TrialSpec> m = trial_matrix(plan);
+  ASSERT_EQ(m.size(), 6u);
+  EXPECT_EQ(m[0].id, "s.minibot.kitchen.RRTConnect.l10.s7");
+  EXPECT_EQ(m[2].id, "s.minibot.kitchen.RRTConnect.l12.s9");
+  EXPECT_EQ(m[5].id, "s.minibot.kitchen.short_range.l12.s9");
+  // Each id names its trial, and any seeds may be asked for.
+  const TrialSpec t = parse_trial_id(plan, "s.minibot.kitchen.short_range.l99.s5");
+  EXPECT_EQ(t.planner, 1);
+  EXPECT_EQ(t.layout_seed, 99u);
+  EXPECT_EQ(t.seed, 5u);
+  // The obstacle options reach the layout: 5 obstacles, all on the floor, boxes and spheres.
+  const core::ObstacleLayout layout =
+      test::scene("minibot", "kitchen")->make_layout(s.obstacles, 10);
+  ASSERT_EQ(layout.obstacles.size(), 5u);
+  for (const core::PlacedObstacle& o : layout.obstacles) {
+    EXPECT_NE(o.shape, core::ObstacleShape::kCylinder);
+    EXPECT_LT(o.position.z(), 0.5);  // on the floor, not a table top
+  }
+}
+
+TEST_F(ScenarioFiles, BadTrialIdsAreExplained) {
+  const RunPlan plan = load_run_plan(write("s.yaml", kReach), test::catalog(), registry_);
+  auto error = [&](const std::string& id) {
+    try {
+      parse_trial_id(plan, id);
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("s.minibot.kitchen").find("expected <scenario>"), std::string::npos);
+  EXPECT_NE(error("s.tallbot.kitchen.RRTConnect.l1.s1").find("no robot 'tallbot'"),
+            std::string::npos);
+  EXPECT_NE(error("s.minibot.kitchen.PRM.l1.s1").find("no planner 'PRM'"), std::string::npos);
+  EXPECT_NE(error("s.minibot.kitchen.RRTConnect.1.s1").find("expected l<number>"),
+            std::string::npos);
+  EXPECT_NE(error("s.minibot.kitchen.RRTConnect.l1.s0").find("1..4294967295"), std::string::npos);
+}
+
+TEST_F(ScenarioFiles, MistakesNameFileLineAndKey) {
+  const std::string r(kReach);
+  EXPECT_NE(error_of(r + "trails: 3\n").find("bad.yaml:5: trails: unknown key"), std::string::npos)
+      << error_of(r + "trails: 3\n");
+  EXPECT_NE(error_of(r + "time_limit_s: .nan\n").find("time_limit_s"), std::string::npos);
+  EXPECT_NE(error_of(r + "time_limit_s: .nan\n").find("finite"), std::string::npos)
+      << error_of(r + "time_limit_s: .nan\n");
+  EXPECT_NE(error_of(r + "planners: [RRTFast]\n").find("unknown planner 'RRTFast'"),
+            std::string::npos);
+  const std::string bad_param = r + "planners: [{name: RRTConnect, params: {rnage: 0.3}}]\n";
+  EXPECT_NE(error_of(bad_param).find("has no parameter 'rnage' (known: "), std::string::npos)
+      << error_of(bad_param);
+  EXPECT_NE(error_of(r + "planners: [{name: RRTConnect, params: {range: fast}}]\n")
+                .find("rejects 'fast'"),
+            std::string::npos);
+  EXPECT_NE(error_of(r + "obstacles: {count: 2, shapes: [cube]}\n").find("unknown shape 'cube'"),
+            std::string::npos);
+  EXPECT_NE(error_of(r + "obstacles: {count: 2, footprint_m: [0.2, 0.1]}\n").find("min <= max"),
+            std::string::npos);
+  EXPECT_NE(error_of(r + "trials: 0\n").find("trials: must be in 1..100000"), std::string::npos);
+  EXPECT_NE(error_of("suite: s\nscenarios: [missing.yaml]\n").find("no scenario file"),
+            std::string::npos);
+  write("a.yaml", kReach);
+  EXPECT_NE(error_of("suite: s\nscenarios: [a.yaml, a.yaml]\n").find("two scenarios are named 'a'"),
+            std::string::npos);
+}
+
+TEST_F(ScenarioFiles, SuitesOverrideEveryScenario) {
+  write("a.yaml", kReach);
+  write("b.yaml",
+        "program: grasp\nparams: {object: cup}\nsetup: [{program: reach, params: {object: cup}}]\n"
+        "robots: [tallbot]\nenvironments: [office]\n");
+  const auto file = write("suite.yaml",
+                          "suite: both\nscenarios: [a.yaml, b.yaml]\ntrials: 2\n"
+                          "planners: [RRTConnect, BiEST]\n");
+  RunPlan plan = load_run_plan(file, test::catalog(), registry_);
+  EXPECT_TRUE(plan.suite);
+  EXPECT_EQ(plan.name, "both");
+  ASSERT_EQ(plan.scenarios.size(), 2u);
+  EXPECT_EQ(trial_matrix(plan).size(), 2u * 2u * 2u);
+  RunOverrides o;
+  o.trials = 1;
+  o.planners = {"PRM"};
+  apply_overrides(plan, o);
+  EXPECT_EQ(trial_matrix(plan).size(), 2u);
+  EXPECT_EQ(trial_matrix(plan)[1].id, "b.tallbot.office.PRM.l1.s1");
+  o.planners = {"Nope"};
+  EXPECT_THROW(apply_overrides(plan, o), core::InputError);
+}
+
+TEST_F(ScenarioFiles, InlineMachinesBecomePrograms) {
+  const auto file = write("m.yaml", R"(machine:
+  name: reach_and_grasp
+  parameters: {object: {type: string}}
+  initial: reach
+  states:
+    reach: {program: reach, params: {object: $object}}
+    grasp: {program: grasp, params: {object: $object}}
+    done: {final: success}
+  transitions:
+    - {from: reach, on: completed, to: grasp}
+    - {from: grasp, on: completed, to: done}
+params: {object: cup}
+robots: [minibot]
+environments: [kitchen]
+)");
+  const RunPlan plan = load_run_plan(file, test::catalog(), registry_);
+  EXPECT_EQ(plan.scenarios[0].run.program, "reach_and_grasp");
+  EXPECT_NE(registry_.find("reach_and_grasp"), nullptr);
+  // A machine whose state names an unknown program is refused with its line.
+  const std::string bad = error_of(R"(machine:
+  name: broken
+  initial: a
+  states:
+    a: {program: teleport}
+    done: {final: success}
+  transitions:
+    - {from: a, on: completed, to: done}
+robots: [minibot]
+environments: [kitchen]
+)");
+  EXPECT_NE(bad.find("bad.yaml:5"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("teleport"), std::string::npos) << bad;
+}
+
+TEST_F(ScenarioFiles, ValidateChecksLayoutsBeforeAnything) {
+  // The region exists in neither environment: caught by validation, naming the scenario.
+  const auto file =
+      write("s.yaml", std::string(kReach) + "obstacles: {count: 3, regions: [roof]}\n");
+  try {
+    validate_run_plan(test::catalog(), registry_, file);
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("s.yaml: obstacles"), std::string::npos) << what;
+    EXPECT_NE(what.find("no region 'roof' (known: floor, table_top)"), std::string::npos) << what;
+  }
+  // Too many obstacles for the room: the same.
+  const auto crowded = write("c.yaml", std::string(kReach) + "obstacles: {count: 400}\n");
+  EXPECT_THROW(validate_run_plan(test::catalog(), registry_, crowded), core::InputError);
+  EXPECT_EQ(validate_run_plan(test::catalog(), registry_, write("ok.yaml", kReach)), 1);
+}
+
+TEST(Statistics, WilsonIntervalMatchesPublishedValues) {
+  // Reference values from the Wilson score formula (e.g. Newcombe 1998, table I: 81/263).
+  const Interval a = wilson_interval(81, 263);
+  EXPECT_NEAR(a.low, 0.2553, 5e-4);
+  EXPECT_NEAR(a.high, 0.3662, 5e-4);
+  const Interval none = wilson_interval(0, 10);
+  EXPECT_DOUBLE_EQ(none.low, 0.0);
+  EXPECT_NEAR(none.high, 0.2775, 5e-4);
+  const Interval all = wilson_interval(4, 4);
+  EXPECT_NEAR(all.low, 0.5101, 5e-4);
+  EXPECT_DOUBLE_EQ(all.high, 1.0);
+  EXPECT_DOUBLE_EQ(wilson_interval(0, 0).high, 1.0);
+}
+
+TEST(Statistics, QuantilesInterpolateBetweenRanks) {
+  EXPECT_DOUBLE_EQ(quantile({3, 1, 2}, 0.5), 2.0);
+  EXPECT_DOUBLE_EQ(quantile({1, 2, 3, 4}, 0.5), 2.5);
+  EXPECT_NEAR(quantile({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 0.9), 9.1, 1e-12);
+  EXPECT_TRUE(std::isnan(quantile({}, 0.5)));
+}
+
+}  // namespace
+}  // namespace taskmatrix::harness
