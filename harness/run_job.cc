@@ -274,15 +274,11 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     }
     j["wall_time_s"] = o.wall_s;
     j["peak_memory_mb"] = o.peak_memory_mb;
-    // What the harness adds to the trial: all but planning (IK for pose goals and the
-    // programs' IK included), simplification and the simulation's stepping.
-    if (j["planning_time_s"].is_number() && j["stepping_wall_s"].is_number()) {
-      j["overhead_s"] = o.wall_s - j["planning_time_s"].get<double>() -
-                        j["simplification_time_s"].get<double>() - j["ik_time_s"].get<double>() -
-                        j["stepping_wall_s"].get<double>();
-    } else {
-      j["overhead_s"] = nullptr;
-    }
+    // What the harness adds to the trial: the worker's wall time outside the executive
+    // (fork, the worker's skillset and layout, judging success, the result and trajectory).
+    j["overhead_s"] = j["executive_wall_s"].is_number()
+                          ? nlohmann::json(o.wall_s - j["executive_wall_s"].get<double>())
+                          : nlohmann::json(nullptr);
     const std::string line = j.dump();
     if (writer) writer->append(line);
     if (!options.only.empty()) out << line << "\n" << std::flush;

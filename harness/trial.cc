@@ -87,13 +87,22 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;
   };
+  // Wall time inside the executive (programs, planning, IK, simulation); the rest of the
+  // trial is the harness's own overhead.
+  auto timed_run = [&](const ProgramCall& call) {
+    const auto t = std::chrono::steady_clock::now();
+    std::string failed = run_program(executive, call, scenario.time_limit_s);
+    result.executive_wall_s +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    return failed;
+  };
   for (const ProgramCall& step : scenario.setup) {
-    const std::string failed = run_program(executive, step, scenario.time_limit_s);
+    const std::string failed = timed_run(step);
     if (!failed.empty()) return finish("setup_failed: " + step.program + ": " + failed);
   }
   if (observe) observe("setup", skills);
   const double start = skills.time();
-  const std::string failed = run_program(executive, scenario.run, scenario.time_limit_s);
+  const std::string failed = timed_run(scenario.run);
   result.duration_s = skills.time() - start;
   if (!failed.empty()) return finish(failed);
   if (!scenario.success.empty()) {

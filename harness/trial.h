@@ -39,6 +39,9 @@ struct TrialResult {
   int plan_calls = 0;     // planning calls (of the skillset; each may run OMPL several times)
   double planning_time_s = 0;
   double trial_wall_s = 0;  // wall clock inside run_trial, set-up of the skillset included
+  // Wall clock inside the executive: set-up programs and the program (their planning, IK,
+  // queries, logic and the simulation). trial_wall_s minus this is the trial's set-up.
+  double executive_wall_s = 0;
   mujoco::WorkRecord work;  // every plan call, IK, checks, the executed motion
   std::vector<TrialEvent> events;
   std::vector<core::Message> log;  // every message, set-up included

@@ -54,6 +54,7 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
   j["clearance_samples"] = w.clearance_samples;
   j["control_periods"] = w.control_periods;
   j["trial_wall_s"] = r.trial_wall_s;
+  j["executive_wall_s"] = r.executive_wall_s;
   j["stepping_wall_s"] = w.stepping_wall_s;
   j["monitoring_wall_s"] = w.monitoring_wall_s;
   nlohmann::json events = nlohmann::json::array();
@@ -94,7 +95,8 @@ nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
        {"planning_time_s", "simplification_time_s", "plan_calls", "planner_runs",
         "collision_checks", "ik_calls", "ik_time_s", "path_length_joint", "path_length_ee_m",
         "duration_s", "sim_time_s", "smoothness", "min_clearance_m", "clearance_samples",
-        "control_periods", "trial_wall_s", "stepping_wall_s", "monitoring_wall_s"}) {
+        "control_periods", "trial_wall_s", "executive_wall_s", "stepping_wall_s",
+        "monitoring_wall_s"}) {
     j[key] = nullptr;
   }
   j["events"] = nlohmann::json::array();

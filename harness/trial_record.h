@@ -5,7 +5,8 @@
 // seed, layout_seed, success, status, failure_reason, planning_time_s, simplification_time_s,
 // plan_calls, planner_runs, collision_checks, ik_calls, ik_time_s, path_length_joint,
 // path_length_ee_m, duration_s, sim_time_s, smoothness, min_clearance_m, wall_time_s,
-// trial_wall_s, stepping_wall_s, monitoring_wall_s, overhead_s, peak_memory_mb, events,
+// trial_wall_s, executive_wall_s, stepping_wall_s, monitoring_wall_s, overhead_s,
+// peak_memory_mb, events,
 // plans, removed_debris, trajectory. Unmeasured values (a crashed trial's) are null.
 #pragma once
 
