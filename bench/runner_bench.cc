@@ -30,7 +30,8 @@ void BM_RunSuite(benchmark::State& state) {
   char tmpl[] = "/tmp/taskmatrix_bench_run_XXXXXX";
   const std::filesystem::path out = mkdtemp(tmpl);
   harness::RunJobOptions options;
-  options.scenario_file = std::filesystem::path(TASKMATRIX_BENCH_ROOT) / "bench" / "runner_suite.yaml";
+  options.scenario_file =
+      std::filesystem::path(TASKMATRIX_BENCH_ROOT) / "bench" / "runner_suite.yaml";
   options.out = out;
   options.jobs = static_cast<int>(state.range(0));
   options.progress = harness::RunJobOptions::Progress::kOff;

@@ -91,12 +91,11 @@ nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
   j["success"] = false;
   j["status"] = status;
   j["failure_reason"] = reason;
-  for (const char* key :
-       {"planning_time_s", "simplification_time_s", "plan_calls", "planner_runs",
-        "collision_checks", "ik_calls", "ik_time_s", "path_length_joint", "path_length_ee_m",
-        "duration_s", "sim_time_s", "smoothness", "min_clearance_m", "clearance_samples",
-        "control_periods", "trial_wall_s", "executive_wall_s", "stepping_wall_s",
-        "monitoring_wall_s"}) {
+  for (const char* key : {"planning_time_s", "simplification_time_s", "plan_calls", "planner_runs",
+                          "collision_checks", "ik_calls", "ik_time_s", "path_length_joint",
+                          "path_length_ee_m", "duration_s", "sim_time_s", "smoothness",
+                          "min_clearance_m", "clearance_samples", "control_periods", "trial_wall_s",
+                          "executive_wall_s", "stepping_wall_s", "monitoring_wall_s"}) {
     j[key] = nullptr;
   }
   j["events"] = nlohmann::json::array();
@@ -107,12 +106,17 @@ nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
 }
 
 const std::vector<std::string>& timing_fields() {
-  static const std::vector<std::string> fields = {
-      "planning_time_s", "simplification_time_s",
-      "ik_time_s",       "trial_wall_s",
-      "stepping_wall_s", "monitoring_wall_s",
-      "wall_time_s",     "overhead_s",
-      "peak_memory_mb",  "simplification_hit_time_limit"};
+  static const std::vector<std::string> fields = {"planning_time_s",
+                                                  "simplification_time_s",
+                                                  "ik_time_s",
+                                                  "trial_wall_s",
+                                                  "executive_wall_s",
+                                                  "stepping_wall_s",
+                                                  "monitoring_wall_s",
+                                                  "wall_time_s",
+                                                  "overhead_s",
+                                                  "peak_memory_mb",
+                                                  "simplification_hit_time_limit"};
   return fields;
 }
 

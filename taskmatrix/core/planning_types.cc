@@ -23,7 +23,7 @@ const char* to_string(PlanStatus status) {
     case PlanStatus::kApproximateSolution:
       return "approximate_solution";
     case PlanStatus::kTimeout:
-      return "timeout";
+      return "planning_timeout";
     case PlanStatus::kInvalidStart:
       return "invalid_start";
     case PlanStatus::kInvalidGoal:
