@@ -61,16 +61,47 @@ std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> t
   std::sort(trials.begin(), trials.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
     return a.value("trial_id", std::string()) < b.value("trial_id", std::string());
   });
-  // Enumerations over what the trials hold.
+  // Enumerations over what the trials hold. The trial status is named apart from OMPL's own
+  // planner "status" enum, which a database may already hold.
   std::vector<Enum> enums = {
-      {"status", {}}, {"scenario", {}}, {"program", {}}, {"robot", {}}, {"environment", {}}};
+      {"trial_status", {}}, {"scenario", {}}, {"program", {}}, {"robot", {}}, {"environment", {}}};
   for (const nlohmann::json& t : trials) {
     for (Enum& e : enums) {
-      const std::string v = one_token(t.value(e.name, std::string("unknown")));
+      const std::string key = e.name == "trial_status" ? "status" : e.name;
+      const std::string v = one_token(t.value(key, std::string("unknown")));
       if (std::find(e.values.begin(), e.values.end(), v) == e.values.end()) e.values.push_back(v);
     }
   }
   for (Enum& e : enums) std::sort(e.values.begin(), e.values.end());
+  // Trial statuses start with a fixed list, so that logs of different runs agree on the
+  // indices of every status they share with it (a database keeps the first log's enum).
+  static const std::vector<std::string> kKnownStatuses = {"success",
+                                                          "crash",
+                                                          "timeout",
+                                                          "sim_unstable",
+                                                          "setup_failed",
+                                                          "time_limit",
+                                                          "criterion_false",
+                                                          "planning_timeout",
+                                                          "ik_failure",
+                                                          "collision",
+                                                          "grasp_failed",
+                                                          "invalid_start",
+                                                          "invalid_goal",
+                                                          "invalid_input",
+                                                          "precondition_false",
+                                                          "invariant_false",
+                                                          "no_transition",
+                                                          "perception_miss",
+                                                          "not_graspable",
+                                                          "coverage_short",
+                                                          "chains_busy",
+                                                          "approximate_solution"};
+  std::vector<std::string> statuses = kKnownStatuses;
+  for (const std::string& v : enums[0].values) {
+    if (std::find(statuses.begin(), statuses.end(), v) == statuses.end()) statuses.push_back(v);
+  }
+  enums[0].values = statuses;
   std::map<std::string, std::vector<const nlohmann::json*>> by_planner;
   for (const nlohmann::json& t : trials) by_planner[t.value("planner", "")].push_back(&t);
 
@@ -98,7 +129,7 @@ std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> t
       {"time REAL", "planning_time_s"},
       {"simplification time REAL", "simplification_time_s"},
       {"solved BOOLEAN", "success"},
-      {"status ENUM", "status"},
+      {"trial status ENUM", "status"},
       {"scenario ENUM", "scenario"},
       {"program ENUM", "program"},
       {"robot ENUM", "robot"},
@@ -135,8 +166,9 @@ std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> t
         const std::string d(decl);
         const nlohmann::json& v = t->contains(key) ? (*t)[key] : nlohmann::json(nullptr);
         if (d.find(" ENUM") != std::string::npos) {
+          const std::string enum_name = std::string(key) == "status" ? "trial_status" : key;
           const Enum& e = *std::find_if(enums.begin(), enums.end(),
-                                        [&](const Enum& x) { return x.name == key; });
+                                        [&](const Enum& x) { return x.name == enum_name; });
           out +=
               std::to_string(e.index(one_token(v.is_string() ? v.get<std::string>() : "unknown")));
         } else if (d.find(" BOOLEAN") != std::string::npos) {

@@ -3,7 +3,8 @@
 // Planner Arena database. One experiment (the run); one planner entry per planner label
 // ("geometric_<label>", its parameters as common properties); one run per trial, in trial-id
 // order, with properties: time (planning time of the trial, s), simplification time, solved
-// (the trial's success), status, scenario, program, robot, environment (enums), layout seed,
+// (the trial's success), trial status, scenario, program, robot, environment (enums; an
+// enum's values are those of this log, and a database keeps the first log's), layout seed,
 // seed, plan calls, collision checks, ik time, path length joint, path length ee, duration,
 // smoothness, min clearance, wall time, memory (peak MB). Unmeasured values are written as
 // nan, which the script stores as NULL.

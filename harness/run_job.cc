@@ -184,26 +184,38 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   const std::filesystem::path trials_file = result.dir / "trials.jsonl";
   const std::string hash = "sha256:" + plan_hash(plan);
   std::vector<nlohmann::json> kept;
+  if (write_dir && !options.only.empty() && std::filesystem::exists(trials_file)) {
+    throw core::InputError(result.dir.string(), "--out",
+                           "holds a run; --only writes only into a new directory");
+  }
+  if (write_dir && options.resume) {
+    // Checked before anything is written.
+    const std::filesystem::path prov = result.dir / "provenance.json";
+    if (std::filesystem::exists(prov)) {
+      nlohmann::json old = nlohmann::json::parse(io::read_text_file(prov), nullptr, false);
+      if (!old.is_discarded() && old.value("scenario_hash", hash) != hash) {
+        throw core::InputError(result.dir.string(), "--resume",
+                               "the run there was made from different scenario files (" +
+                                   old.value("scenario_hash", std::string("?")) + ", now " + hash +
+                                   "); choose another --out");
+      }
+    }
+    TrialsFile existing = read_trials_file(trials_file);
+    if (existing.torn_tail) {
+      std::filesystem::resize_file(trials_file, existing.valid_bytes);
+      err << "taskmatrix: resume: dropped a torn last line of " << trials_file.string() << "\n";
+    }
+    // Trials of another matrix (other --trials, --planners or --seed) stay in the file but
+    // are not part of this run's summary.
+    std::set<std::string> ids;
+    for (const TrialSpec& t : p.matrix) ids.insert(t.id);
+    for (nlohmann::json& t : existing.trials) {
+      if (ids.count(t.value("trial_id", std::string()))) kept.push_back(std::move(t));
+    }
+  }
   if (write_dir) {
     std::filesystem::create_directories(result.dir / "trajectories");
-    if (options.resume) {
-      const std::filesystem::path prov = result.dir / "provenance.json";
-      if (std::filesystem::exists(prov)) {
-        nlohmann::json old = nlohmann::json::parse(io::read_text_file(prov), nullptr, false);
-        if (!old.is_discarded() && old.value("scenario_hash", hash) != hash) {
-          throw core::InputError(result.dir.string(), "--resume",
-                                 "the run there was made from different scenario files (" +
-                                     old.value("scenario_hash", std::string("?")) + ", now " +
-                                     hash + "); choose another --out");
-        }
-      }
-      TrialsFile existing = read_trials_file(trials_file);
-      if (existing.torn_tail) {
-        std::filesystem::resize_file(trials_file, existing.valid_bytes);
-        err << "taskmatrix: resume: dropped a torn last line of " << trials_file.string() << "\n";
-      }
-      kept = std::move(existing.trials);
-    } else {
+    if (!options.resume) {
       for (const char* name : {"trials.jsonl", "summary.json", "summary.md", "ompl.log"}) {
         std::filesystem::remove(result.dir / name);
       }

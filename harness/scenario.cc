@@ -150,6 +150,12 @@ std::uint32_t read_seed(const io::YamlNode& node) {
   return static_cast<std::uint32_t>(v);
 }
 
+double read_wall_limit(const io::YamlNode& node) {
+  const double v = node.as_positive_double();
+  if (v > 86400) node.fail("must be at most 86400 s (a day)");
+  return v;
+}
+
 int read_trials(const io::YamlNode& node) {
   const int v = node.as_int();
   if (v < 1 || v > 100000) node.fail("must be in 1..100000");
@@ -223,7 +229,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
   }
   if (auto t = root.optional("plan_time_limit_s")) s.plan_time_limit_s = t->as_positive_double();
   if (auto t = root.optional("time_limit_s")) s.time_limit_s = t->as_positive_double();
-  if (auto t = root.optional("wall_limit_s")) s.wall_limit_s = t->as_positive_double();
+  if (auto t = root.optional("wall_limit_s")) s.wall_limit_s = read_wall_limit(*t);
   if (auto success = root.optional("success")) {
     s.success = success->as_string();
     try {
@@ -277,7 +283,7 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
       s.environments = read_names(*n, catalog.environments(), "environment");
     }
     if (auto n = root.optional("plan_time_limit_s")) s.plan_time_limit_s = n->as_positive_double();
-    if (auto n = root.optional("wall_limit_s")) s.wall_limit_s = n->as_positive_double();
+    if (auto n = root.optional("wall_limit_s")) s.wall_limit_s = read_wall_limit(*n);
   }
   return plan;
 }
@@ -299,6 +305,13 @@ void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
     if (overrides.trials > 0) s.trials = overrides.trials;
     if (overrides.seed > 0) s.seed = overrides.seed;
     if (!planners.empty()) s.planners = planners;
+    if (static_cast<std::uint64_t>(s.seed) + static_cast<std::uint64_t>(s.trials) - 1 >
+        0xffffffffULL) {
+      throw core::InputError("--seed", "",
+                             "seed + trials - 1 must stay within 4294967295 (planner seeds of "
+                             "scenario " +
+                                 s.name + ")");
+    }
   }
 }
 

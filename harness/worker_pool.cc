@@ -42,8 +42,10 @@ void worker_mju_error(const char* message) {
   _exit(70);
 }
 
-[[noreturn]] void run_child(int fd, size_t i, const std::function<std::string(size_t)>& work) {
+[[noreturn]] void run_child(int fd, size_t i, pid_t supervisor,
+                            const std::function<std::string(size_t)>& work) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() != supervisor) _exit(72);  // the supervisor died before prctl took effect
   std::signal(SIGINT, SIG_IGN);
   std::signal(SIGPIPE, SIG_DFL);
   g_result_fd = fd;
@@ -59,9 +61,9 @@ void worker_mju_error(const char* message) {
     payload = "!crash unknown exception";
     code = 71;
   }
+  std::fflush(nullptr);
   write_all(fd, payload.data(), payload.size());
   close(fd);
-  std::fflush(nullptr);
   _exit(code);
 }
 
@@ -73,6 +75,34 @@ struct Running {
   std::string payload;
   bool eof = false;
   bool timed_out = false;
+};
+
+// Reads what is in the pipe now without waiting; true at end of file.
+bool drain(Running& r) {
+  const int flags = fcntl(r.fd, F_GETFL);
+  fcntl(r.fd, F_SETFL, flags | O_NONBLOCK);
+  char buf[1 << 16];
+  for (;;) {
+    const ssize_t n = read(r.fd, buf, sizeof buf);
+    if (n > 0) {
+      r.payload.append(buf, static_cast<size_t>(n));
+      continue;
+    }
+    fcntl(r.fd, F_SETFL, flags);
+    return n == 0;
+  }
+}
+
+// Kills and reaps the running workers when the supervisor leaves by an exception.
+struct KillOnUnwind {
+  std::vector<Running>& running;
+  ~KillOnUnwind() {
+    for (Running& r : running) {
+      kill(r.pid, SIGKILL);
+      close(r.fd);
+      waitpid(r.pid, nullptr, 0);
+    }
+  }
 };
 
 std::string signal_text(int sig) {
@@ -88,6 +118,8 @@ size_t run_in_workers(size_t count, const WorkerPoolOptions& options,
                       const std::function<void(size_t, const WorkerOutcome&)>& on_done) {
   if (options.jobs < 1) throw std::invalid_argument("jobs must be 1 or more");
   std::vector<Running> running;
+  const KillOnUnwind guard{running};
+  const pid_t supervisor = getpid();
   size_t next = 0, reported = 0;
   auto stopping = [&] { return options.stop && *options.stop != 0; };
   std::fflush(nullptr);  // nothing buffered is written twice by a child
@@ -107,10 +139,14 @@ size_t run_in_workers(size_t count, const WorkerPoolOptions& options,
       if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
       const Clock::time_point start = Clock::now();
       const pid_t pid = fork();
-      if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
+      if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
+      }
       if (pid == 0) {
         close(fds[0]);
-        run_child(fds[1], next, work);
+        run_child(fds[1], next, supervisor, work);
       }
       close(fds[1]);
       const auto limit = std::chrono::duration_cast<Clock::duration>(
@@ -140,8 +176,11 @@ size_t run_in_workers(size_t count, const WorkerPoolOptions& options,
         if (n == 0) r.eof = true;
       }
       if (!r.eof && Clock::now() >= r.deadline) {
-        kill(r.pid, SIGKILL);
-        r.timed_out = true;
+        // A worker that finished just now is not a timeout.
+        if (!drain(r)) {
+          kill(r.pid, SIGKILL);
+          r.timed_out = true;
+        }
         r.eof = true;
       }
     }

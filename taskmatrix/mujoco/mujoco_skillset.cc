@@ -278,7 +278,7 @@ void MujocoSkillset::reset() {
   }
   removed_debris_.clear();
   have_last_ = false;
-  have_accel_ = 0;
+  have_accel_ = false;
   worker_.reset_to_start();
   forget_obstacles();
   attachments_.clear();
@@ -632,7 +632,7 @@ void MujocoSkillset::set_configuration(const std::vector<std::string>& chain_nam
   }
   mj_forward(m, d);
   have_last_ = false;  // a placement, not motion
-  have_accel_ = 0;
+  have_accel_ = false;
   if (record_every_ > 0) record_frame();
 }
 
@@ -687,51 +687,58 @@ void MujocoSkillset::monitor_period() {
   const mjData* d = worker_.data();
   ++work_.control_periods;
   if (record_every_ > 0 && work_.control_periods % record_every_ == 0) record_frame();
-  // Robot joints: positions, velocities; end effectors: positions.
-  std::vector<double> q, v, ee;
-  std::vector<int> moving;
+  // Robot joints: positions, velocities, accelerations; end effectors: positions. The
+  // buffers are members: no allocation per period once sized.
+  cur_q_.clear();
+  cur_v_.clear();
+  cur_ee_.clear();
+  moving_.clear();
   for (const JointState& js : joint_state_) {
     if (js.joint < 0) continue;
-    q.push_back(d->qpos[js.qpos_adr]);
-    v.push_back(d->qvel[js.dof_adr]);
-    if (target_vel_[js.joint] != 0) moving.push_back(js.joint);
+    cur_q_.push_back(d->qpos[js.qpos_adr]);
+    cur_v_.push_back(d->qvel[js.dof_adr]);
+    if (target_vel_[js.joint] != 0) moving_.push_back(js.joint);
   }
-  for (int s : ee_sites_) ee.insert(ee.end(), d->site_xpos + 3 * s, d->site_xpos + 3 * s + 3);
-  for (int b : ee_bodies_) ee.insert(ee.end(), d->xpos + 3 * b, d->xpos + 3 * b + 3);
+  for (int s : ee_sites_)
+    cur_ee_.insert(cur_ee_.end(), d->site_xpos + 3 * s, d->site_xpos + 3 * s + 3);
+  for (int b : ee_bodies_) cur_ee_.insert(cur_ee_.end(), d->xpos + 3 * b, d->xpos + 3 * b + 3);
   if (have_last_) {
     double dq = 0;
-    for (size_t i = 0; i < q.size(); ++i) dq += (q[i] - last_q_[i]) * (q[i] - last_q_[i]);
-    work_.path_length_joint += std::sqrt(dq);
-    for (size_t i = 0; i + 2 < ee.size(); i += 3) {
-      work_.path_length_ee_m +=
-          std::hypot(ee[i] - last_ee_[i], ee[i + 1] - last_ee_[i + 1], ee[i + 2] - last_ee_[i + 2]);
+    for (size_t i = 0; i < cur_q_.size(); ++i) {
+      dq += (cur_q_[i] - last_q_[i]) * (cur_q_[i] - last_q_[i]);
     }
-    std::vector<double> a(v.size());
-    for (size_t i = 0; i < v.size(); ++i) a[i] = (v[i] - last_v_[i]) / period_;
-    if (have_accel_ >= 1) {
+    work_.path_length_joint += std::sqrt(dq);
+    for (size_t i = 0; i + 2 < cur_ee_.size(); i += 3) {
+      work_.path_length_ee_m +=
+          std::hypot(cur_ee_[i] - last_ee_[i], cur_ee_[i + 1] - last_ee_[i + 1],
+                     cur_ee_[i + 2] - last_ee_[i + 2]);
+    }
+    cur_a_.resize(cur_v_.size());
+    for (size_t i = 0; i < cur_v_.size(); ++i) cur_a_[i] = (cur_v_[i] - last_v_[i]) / period_;
+    if (have_accel_) {
       double jerk_sq = 0;
-      for (size_t i = 0; i < a.size(); ++i) {
-        const double j = (a[i] - last_a_[i]) / period_;
+      for (size_t i = 0; i < cur_a_.size(); ++i) {
+        const double j = (cur_a_[i] - last_a_[i]) / period_;
         jerk_sq += j * j;
       }
       work_.jerk_squared_sum += jerk_sq;
       ++work_.jerk_samples;
     }
-    last_a_ = std::move(a);
-    have_accel_ = 1;
+    std::swap(last_a_, cur_a_);
+    have_accel_ = true;
   }
-  last_q_ = std::move(q);
-  last_v_ = std::move(v);
-  last_ee_ = std::move(ee);
+  std::swap(last_q_, cur_q_);
+  std::swap(last_v_, cur_v_);
+  std::swap(last_ee_, cur_ee_);
   have_last_ = true;
-  if (clearance_every_ > 0 && !moving.empty() && work_.control_periods % clearance_every_ == 0) {
-    const BeliefScope belief(*this);
+  if (clearance_every_ > 0 && !moving_.empty() && work_.control_periods % clearance_every_ == 0) {
+    // Against the world as it is (every obstacle, seen or not), not the robot's belief.
     sync_query();
-    ValidityChecker checker(*scene_, m, query_.get(), moving, attachments_);
-    std::vector<double> values;
-    for (int j : moving) values.push_back(d->qpos[m->jnt_qposadr[j]]);
+    ValidityChecker checker(*scene_, m, query_.get(), moving_, attachments_);
+    cur_q_.clear();
+    for (int j : moving_) cur_q_.push_back(d->qpos[m->jnt_qposadr[j]]);
     work_.min_clearance_m =
-        std::min(work_.min_clearance_m, checker.distance(values.data(), clearance_cap_m_));
+        std::min(work_.min_clearance_m, checker.distance_to_world(cur_q_.data(), clearance_cap_m_));
     ++work_.clearance_samples;
   }
 }

@@ -220,10 +220,12 @@ class MujocoSkillset final : public core::Skillset {
   int record_every_ = 0;     // control periods per recorded frame; 0: not recording
   int clearance_every_ = 0;  // control periods per clearance sample; 0: never
   double clearance_cap_m_ = 0.25;
-  std::vector<int> ee_sites_, ee_bodies_;  // end effector frames of the chains
-  std::vector<double> last_q_, last_v_, last_a_, last_ee_;
+  std::vector<int> ee_sites_, ee_bodies_;                   // end effector frames of the chains
+  std::vector<double> last_q_, last_v_, last_a_, last_ee_;  // the previous period's
+  std::vector<double> cur_q_, cur_v_, cur_a_, cur_ee_;      // scratch for this period's
+  std::vector<int> moving_;                                 // joints commanded to move
   bool have_last_ = false;
-  int have_accel_ = 0;  // 1 once an acceleration has been measured
+  bool have_accel_ = false;
 };
 
 }  // namespace taskmatrix::mujoco

@@ -364,6 +364,26 @@ double ValidityChecker::distance(const double* values, double cap_m) {
   return dist;
 }
 
+double ValidityChecker::distance_to_world(const double* values, double cap_m) {
+  set_values(values);
+  double dist = cap_m;
+  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+    if (changing_pair_with_world_[k]) {
+      dist = std::min(dist, pair_distance(changing_pairs_[k], std::max(dist, 1e-9)));
+    }
+  }
+  auto self_or_floor = [&](int g) {
+    return scene_.is_robot_geom(g) || m_->geom_type[g] == mjGEOM_PLANE;
+  };
+  for (const AttachedPair& p : attached_pairs_) {
+    if (self_or_floor(p.pair.g1) || self_or_floor(p.pair.g2)) continue;
+    double pd = pair_distance(p.pair, std::max(dist, 1e-9));
+    if (pd < 0 && pd >= -p.tolerance) pd = 0;
+    dist = std::min(dist, pd);
+  }
+  return dist;
+}
+
 std::string describe_robot_contacts(const Scene& scene, const mjModel* m, mjData* d,
                                     const std::vector<Attachment>& attachments) {
   collide_whole_model(m, d, attachments);

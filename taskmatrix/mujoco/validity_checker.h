@@ -82,6 +82,9 @@ class ValidityChecker {
   // narrow phase reports a contact (to 0.01 mm). Penetration within an attachment's support
   // tolerance counts as distance 0.
   double distance(const double* values, double cap_m);
+  // The same against the world only: the environment, its objects and obstacles, not the
+  // floor and not the robot itself (held objects count as the robot's).
+  double distance_to_world(const double* values, double cap_m);
 
   std::uint64_t checks() const { return checks_; }
   size_t changing_pair_count() const { return changing_pairs_.size(); }

@@ -4,29 +4,28 @@
 
 namespace taskmatrix::mujoco {
 
+namespace {
+
+template <typename T>
+T sum_over(const std::vector<PlanCallRecord>& plans, T PlanCallRecord::*field) {
+  T total{};
+  for (const PlanCallRecord& p : plans) total += p.*field;
+  return total;
+}
+
+}  // namespace
+
 double WorkRecord::planning_time_s() const {
-  double t = 0;
-  for (const PlanCallRecord& p : plans) t += p.planning_time_s;
-  return t;
+  return sum_over(plans, &PlanCallRecord::planning_time_s);
 }
 
 double WorkRecord::simplification_time_s() const {
-  double t = 0;
-  for (const PlanCallRecord& p : plans) t += p.simplification_time_s;
-  return t;
+  return sum_over(plans, &PlanCallRecord::simplification_time_s);
 }
 
-double WorkRecord::plan_ik_time_s() const {
-  double t = 0;
-  for (const PlanCallRecord& p : plans) t += p.ik_time_s;
-  return t;
-}
+double WorkRecord::plan_ik_time_s() const { return sum_over(plans, &PlanCallRecord::ik_time_s); }
 
-int WorkRecord::planner_runs() const {
-  int n = 0;
-  for (const PlanCallRecord& p : plans) n += p.planner_runs;
-  return n;
-}
+int WorkRecord::planner_runs() const { return sum_over(plans, &PlanCallRecord::planner_runs); }
 
 double WorkRecord::jerk_rms() const {
   return jerk_samples > 0 ? std::sqrt(jerk_squared_sum / static_cast<double>(jerk_samples)) : NAN;

@@ -41,9 +41,10 @@ struct WorkRecord {
   double path_length_ee_m = 0;   // sum over end effectors of their Cartesian path length
   double jerk_squared_sum = 0;   // of |dddq| by finite differences of joint velocities
   long jerk_samples = 0;
-  // Smallest distance between the moving chains (and what they hold) and everything they
-  // may touch, sampled while any chain is commanded to move; infinity when never sampled.
-  // Capped at the monitor's cap. Touching a grasped or placed object counts as 0.
+  // Smallest distance between the moving chains (and what they hold) and the world (furniture,
+  // objects, obstacles; not the floor, not the robot itself), sampled while any chain is
+  // commanded to move; infinity when never sampled. Capped at the monitor's cap. Touching a
+  // grasped or placed object counts as 0.
   double min_clearance_m = std::numeric_limits<double>::infinity();
   long clearance_samples = 0;
 
