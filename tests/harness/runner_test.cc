@@ -382,13 +382,12 @@ TEST_F(Runner, InterruptStopsCleanlyAndSaysSo) {
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   const int finished = static_cast<int>(read_trials_file(out / "trials.jsonl").trials.size());
-  if (finished < 4) {
-    EXPECT_EQ(WEXITSTATUS(status), 130);
-    const nlohmann::json s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
-    EXPECT_TRUE(s["run"]["interrupted"].get<bool>());
-    EXPECT_EQ(s["run"]["finished_trials"], finished);
-    EXPECT_FALSE(s["run"]["complete"].get<bool>());
-  }
+  ASSERT_LT(finished, 4) << "the run finished before it could be interrupted";
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_TRUE(s["run"]["interrupted"].get<bool>());
+  EXPECT_EQ(s["run"]["finished_trials"], finished);
+  EXPECT_FALSE(s["run"]["complete"].get<bool>());
   // No trial was recorded as failed because of the interrupt.
   for (const nlohmann::json& t : read_trials_file(out / "trials.jsonl").trials) {
     EXPECT_NE(t["status"], "crash") << t["failure_reason"];
