@@ -61,7 +61,7 @@ std::string plan_hash(const RunPlan& plan) {
   const std::filesystem::path base = plan.file.parent_path();
   if (plan.suite) add(plan.file.filename().string(), plan.text);
   for (const Scenario& s : plan.scenarios) {
-    add(std::filesystem::relative(s.file, base).generic_string(), s.program_text);
+    add(std::filesystem::relative(s.file, base).generic_string(), s.file_text);
   }
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int size = 0;

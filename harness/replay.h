@@ -28,7 +28,6 @@ class Replay {
   void show(size_t frame);
   mujoco::WorkerScene& worker() { return worker_; }
   const mujoco::Scene& scene() const { return *scene_; }
-  const TrajectoryFile& trajectory() const { return trajectory_; }
 
  private:
   TrajectoryFile trajectory_;

@@ -137,7 +137,7 @@ OmplLogInfo ompl_info(const RunPlan& plan, const nlohmann::json& provenance, dou
   info.experiment = plan.name;
   info.setup = plan.suite ? plan.text : "";
   for (const Scenario& s : plan.scenarios)
-    info.setup += "# " + s.file.string() + "\n" + s.program_text;
+    info.setup += "# " + s.file.string() + "\n" + s.file_text;
   info.hostname = host_name();
   info.cpuinfo = cpu_model();
   info.date = provenance.value("started_at", utc_now_iso());

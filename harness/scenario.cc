@@ -177,7 +177,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
                     "success"});
   Scenario s;
   s.file = file;
-  s.program_text = io::read_text_file(file);
+  s.file_text = io::read_text_file(file);
   s.name = root.get_string("name", file.stem().string());
   if (!is_id_name(s.name)) {
     (root.has("name") ? root.required("name") : root)

@@ -50,7 +50,7 @@ struct Scenario {
   double time_limit_s = 60.0;   // simulated seconds for the program (and each set-up step)
   double wall_limit_s = 120.0;  // wall-clock seconds a trial's worker may take before it is killed
   std::string success;          // condition text; empty: the program's completion is the success
-  std::string program_text;     // the file's bytes (for the run's scenario hash)
+  std::string file_text;        // the file's bytes (for the run's scenario hash)
 };
 
 // Reads and checks a scenario. An inline `machine:` is registered in `registry` under its

@@ -75,8 +75,6 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
       result.events.push_back({m.time, m.sender, m.program, core::to_string(m.type), m.reason});
     }
     result.work = skills.work();
-    result.plan_calls = static_cast<int>(result.work.plans.size());
-    result.planning_time_s = result.work.planning_time_s();
     result.sim_time_s = skills.time();
     for (int body : skills.removed_debris()) {
       result.removed_debris.push_back(mj_id2name(skills.model(), mjOBJ_BODY, body));

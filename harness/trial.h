@@ -34,10 +34,8 @@ struct TrialResult {
   // program completed but the success condition does not hold), "invalid_input".
   std::string status;
   std::string failure_reason;
-  double duration_s = 0;  // simulated seconds of the scenario's program
-  double sim_time_s = 0;  // simulated seconds of the whole trial, set-up included
-  int plan_calls = 0;     // planning calls (of the skillset; each may run OMPL several times)
-  double planning_time_s = 0;
+  double duration_s = 0;    // simulated seconds of the scenario's program
+  double sim_time_s = 0;    // simulated seconds of the whole trial, set-up included
   double trial_wall_s = 0;  // wall clock inside run_trial, set-up of the skillset included
   // Wall clock inside the executive: set-up programs and the program (their planning, IK,
   // queries, logic and the simulation). trial_wall_s minus this is the trial's set-up.

@@ -207,11 +207,6 @@ TEST_F(Runner, ResultsAreTheSameForAnyNumberOfJobsAndFromATrialIdAlone) {
 }
 
 TEST_F(Runner, OmplBenchmarkStatisticsReadsTheLogWithoutComplaint) {
-  const auto scenario = write("quick_reach.yaml", std::string(kReachScenario) +
-                                                      "planners: [RRTConnect, BiEST]\n"
-                                                      "robots: [minibot]\n");
-  // The second `robots` overrides nothing: YAML keeps one; use a suite-free variant instead.
-  (void)scenario;
   const auto file = write("two_planners.yaml",
                           "program: reach\nparams: {object: cup}\nrobots: [minibot]\n"
                           "environments: [kitchen]\nobstacles: {count: 4}\ntrials: 2\n"
@@ -367,7 +362,6 @@ TEST_F(Runner, AKilledRunLosesNoTrialAndResumesWithoutDuplicates) {
   EXPECT_EQ(by_id(out).size(), 4u);
   // A run directory of other scenario files is not resumed into.
   const auto other = write("other.yaml", std::string(kReachScenario) + "seed: 5\n");
-  std::ofstream(dir_ / "other.yaml", std::ios::app);
   RunJobOptions wrong = resume;
   EXPECT_THROW(run(other, "killed", 1, nullptr, wrong), core::InputError);
 }
