@@ -1,0 +1,373 @@
+#include "harness/compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+
+#include "harness/paired_stats.h"
+
+namespace taskmatrix::harness {
+
+namespace {
+
+const char* const kWorkFields[] = {"collision_checks", "plan_calls", "planner_runs", "ik_calls"};
+
+std::string text(const nlohmann::json& t, const char* key) {
+  const auto it = t.find(key);
+  if (it == t.end() || it->is_null()) return "";
+  return it->is_string() ? it->get<std::string>() : it->dump();
+}
+
+// A finite number, or NaN for null, missing or not a number.
+double number(const nlohmann::json& t, const char* key) {
+  const auto it = t.find(key);
+  return it != t.end() && it->is_number() ? it->get<double>() : NAN;
+}
+
+std::string printf_string(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, format, a, b, c, d);
+  return buf;
+}
+
+std::string p_value(double p) {
+  if (!std::isfinite(p)) return "-";
+  return p < 0.001 ? std::string("<0.001") : printf_string("%.3f", p);
+}
+
+struct Pair {
+  const nlohmann::json* base;
+  const nlohmann::json* fresh;
+};
+
+void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
+  g.pairs = static_cast<int>(pairs.size());
+  std::vector<double> log_ratios;
+  std::map<std::string, WorkCountChange> work;
+  for (const char* f : kWorkFields) work[f].field = f;
+  for (const Pair& p : pairs) {
+    const bool b = p.base->value("success", false), n = p.fresh->value("success", false);
+    g.base_successes += b;
+    g.new_successes += n;
+    g.only_base_success += b && !n;
+    g.only_new_success += n && !b;
+    const double tb = number(*p.base, "planning_time_s"), tn = number(*p.fresh, "planning_time_s");
+    if (tb > 0 && tn > 0) {
+      log_ratios.push_back(std::log(tn / tb));
+      g.base_planning_s.push_back(tb);
+      g.new_planning_s.push_back(tn);
+      g.time_pair_ids.push_back(text(*p.fresh, "trial_id"));
+    }
+    for (const char* f : kWorkFields) {
+      const double wb = number(*p.base, f), wn = number(*p.fresh, f);
+      if (!std::isfinite(wb) || !std::isfinite(wn)) continue;
+      WorkCountChange& w = work[f];
+      w.base_total += wb;
+      w.new_total += wn;
+      w.changed_trials += wb != wn;
+    }
+  }
+  g.base_ci = wilson_interval(g.base_successes, g.pairs);
+  g.new_ci = wilson_interval(g.new_successes, g.pairs);
+  g.mcnemar_p = mcnemar_exact_p(g.only_base_success, g.only_new_success);
+  g.time_pairs = static_cast<int>(log_ratios.size());
+  if (!log_ratios.empty()) {
+    const MeanInterval m = bootstrap_mean_interval(log_ratios);
+    g.time_ratio = std::exp(m.mean);
+    g.time_ratio_low = std::exp(m.low);
+    g.time_ratio_high = std::exp(m.high);
+    g.wilcoxon_p = wilcoxon_signed_rank_p(log_ratios);
+  }
+  for (const char* f : kWorkFields) g.work.push_back(work[f]);
+}
+
+void judge(PairedGroup& g, const CompareThresholds& t) {
+  if (g.pairs == 0) return;
+  const double base_rate = static_cast<double>(g.base_successes) / g.pairs;
+  const double new_rate = static_cast<double>(g.new_successes) / g.pairs;
+  const std::string success =
+      printf_string("success %.0f%% -> %.0f%% (%.0f pairs: %.0f now fail", 100 * base_rate,
+                    100 * new_rate, g.pairs, g.only_base_success) +
+      printf_string(", %.0f now succeed; McNemar p = ", g.only_new_success) + p_value(g.mcnemar_p) +
+      ")";
+  constexpr double kEps = 1e-12;
+  if (g.mcnemar_p < t.alpha && base_rate - new_rate >= t.max_success_drop - kEps) {
+    g.regressions.push_back(success);
+  } else if (g.mcnemar_p < t.alpha && new_rate - base_rate >= t.max_success_drop - kEps) {
+    g.improvements.push_back(success);
+  }
+  if (g.time_pairs >= t.min_time_pairs && g.wilcoxon_p < t.alpha) {
+    const std::string time =
+        printf_string("planning time x%.2f (95%% CI %.2f..%.2f, %.0f pairs; Wilcoxon p = ",
+                      g.time_ratio, g.time_ratio_low, g.time_ratio_high, g.time_pairs) +
+        p_value(g.wilcoxon_p) + ")";
+    if (g.time_ratio_low > t.max_time_ratio) g.regressions.push_back(time);
+    if (g.time_ratio_high < 1.0 / t.max_time_ratio) g.improvements.push_back(time);
+  }
+  for (const WorkCountChange& w : g.work) {
+    if (w.field != "collision_checks" || w.base_total <= 0) continue;
+    const double ratio = w.new_total / w.base_total;
+    const std::string work =
+        printf_string("collision checks x%.2f (%.0f -> %.0f; %.0f trials changed)", ratio,
+                      w.base_total, w.new_total, w.changed_trials);
+    if (ratio > t.max_work_ratio) g.regressions.push_back(work);
+    if (ratio < 1.0 / t.max_work_ratio) g.improvements.push_back(work);
+  }
+}
+
+}  // namespace
+
+bool Comparison::regression() const {
+  if (!overall.regressions.empty()) return true;
+  return std::any_of(groups.begin(), groups.end(),
+                     [](const PairedGroup& g) { return !g.regressions.empty(); });
+}
+
+std::string pairing_key(const nlohmann::json& trial, bool with_planner) {
+  std::string key = text(trial, "scenario") + "\x1f" + text(trial, "robot") + "\x1f" +
+                    text(trial, "environment") + "\x1f" + text(trial, "layout_seed") + "\x1f" +
+                    text(trial, "seed");
+  if (with_planner) key += "\x1f" + text(trial, "planner");
+  return key;
+}
+
+Comparison compare_trials(const std::vector<nlohmann::json>& base,
+                          const std::vector<nlohmann::json>& fresh, bool with_planner,
+                          const CompareThresholds& thresholds) {
+  Comparison c;
+  c.thresholds = thresholds;
+  auto index = [&](const std::vector<nlohmann::json>& trials, const char* side) {
+    std::map<std::string, const nlohmann::json*> by_key;
+    for (const nlohmann::json& t : trials) {
+      if (!by_key.emplace(pairing_key(t, with_planner), &t).second) {
+        throw std::invalid_argument(std::string(side) + " has two trials with the identity of '" +
+                                    text(t, "trial_id") + "'" +
+                                    (with_planner ? "" : " once planners are ignored"));
+      }
+    }
+    return by_key;
+  };
+  const auto base_by_key = index(base, "the base");
+  const auto new_by_key = index(fresh, "the new run");
+
+  using GroupKey =
+      std::tuple<std::string, std::string, std::string, std::string, std::string, std::string>;
+  std::map<GroupKey, std::vector<Pair>> groups;
+  std::vector<Pair> all;
+  for (const auto& [key, b] : base_by_key) {
+    const auto it = new_by_key.find(key);
+    if (it == new_by_key.end()) {
+      c.only_in_base.push_back(text(*b, "trial_id"));
+      continue;
+    }
+    const nlohmann::json* n = it->second;
+    const Pair pair{b, n};
+    all.push_back(pair);
+    groups[{text(*b, "scenario"), text(*b, "program"), text(*b, "robot"), text(*b, "environment"),
+            text(*b, "planner"), text(*n, "planner")}]
+        .push_back(pair);
+    const bool bs = b->value("success", false), ns = n->value("success", false);
+    if (bs != ns) {
+      c.flips.push_back(
+          {text(*b, "trial_id"), text(*n, "trial_id"), text(*b, "status"), text(*n, "status"), ns});
+    }
+  }
+  for (const auto& [key, n] : new_by_key) {
+    if (!base_by_key.count(key)) c.only_in_new.push_back(text(*n, "trial_id"));
+  }
+  std::sort(c.only_in_base.begin(), c.only_in_base.end());
+  std::sort(c.only_in_new.begin(), c.only_in_new.end());
+  std::sort(
+      c.flips.begin(), c.flips.end(),
+      [](const Comparison::Flip& a, const Comparison::Flip& b) { return a.base_id < b.base_id; });
+  for (const auto& [key, pairs] : groups) {
+    PairedGroup g;
+    std::tie(g.scenario, g.program, g.robot, g.environment, g.base_planner, g.new_planner) = key;
+    measure(g, pairs);
+    judge(g, thresholds);
+    c.groups.push_back(std::move(g));
+  }
+  c.overall.scenario = "all";
+  measure(c.overall, all);
+  judge(c.overall, thresholds);
+  if (thresholds.max_new_failures >= 0 &&
+      c.overall.only_base_success > thresholds.max_new_failures) {
+    c.overall.regressions.push_back(printf_string("%.0f trials now fail (at most %.0f allowed)",
+                                                  c.overall.only_base_success,
+                                                  thresholds.max_new_failures));
+  }
+  return c;
+}
+
+namespace {
+
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json group_json(const PairedGroup& g) {
+  nlohmann::json j;
+  j["scenario"] = g.scenario;
+  j["program"] = g.program;
+  j["robot"] = g.robot;
+  j["environment"] = g.environment;
+  j["base_planner"] = g.base_planner;
+  j["new_planner"] = g.new_planner;
+  j["pairs"] = g.pairs;
+  j["success"] = {{"base", g.base_successes},
+                  {"new", g.new_successes},
+                  {"base_ci95", {g.base_ci.low, g.base_ci.high}},
+                  {"new_ci95", {g.new_ci.low, g.new_ci.high}},
+                  {"only_base", g.only_base_success},
+                  {"only_new", g.only_new_success},
+                  {"mcnemar_p", g.mcnemar_p}};
+  j["planning_time"] = {
+      {"pairs", g.time_pairs},
+      {"ratio", finite_or_null(g.time_ratio)},
+      {"ratio_ci95", {finite_or_null(g.time_ratio_low), finite_or_null(g.time_ratio_high)}},
+      {"wilcoxon_p", finite_or_null(g.wilcoxon_p)}};
+  nlohmann::json work = nlohmann::json::object();
+  for (const WorkCountChange& w : g.work) {
+    work[w.field] = {
+        {"base", w.base_total}, {"new", w.new_total}, {"changed_trials", w.changed_trials}};
+  }
+  j["work"] = work;
+  j["regressions"] = g.regressions;
+  j["improvements"] = g.improvements;
+  return j;
+}
+
+std::string verdict(const PairedGroup& g) {
+  std::string v;
+  for (const std::string& r : g.regressions) v += (v.empty() ? "**regression**: " : "; ") + r;
+  std::string better;
+  for (const std::string& r : g.improvements) better += (better.empty() ? "better: " : "; ") + r;
+  if (!better.empty()) v += (v.empty() ? "" : "; ") + better;
+  return v.empty() ? "-" : v;
+}
+
+std::string success_cell(const PairedGroup& g) {
+  return printf_string("%.0f/%.0f -> %.0f/%.0f", g.base_successes, g.pairs, g.new_successes,
+                       g.pairs);
+}
+
+std::string time_cell(const PairedGroup& g) {
+  if (g.time_pairs == 0) return "-";
+  return printf_string("x%.2f (%.2f..%.2f)", g.time_ratio, g.time_ratio_low, g.time_ratio_high);
+}
+
+std::string work_cell(const PairedGroup& g, const std::string& field) {
+  for (const WorkCountChange& w : g.work) {
+    if (w.field != field) continue;
+    std::string cell = printf_string("%.0f -> %.0f", w.base_total, w.new_total);
+    if (w.changed_trials > 0) cell += printf_string(" (%.0f changed)", w.changed_trials);
+    return cell;
+  }
+  return "-";
+}
+
+}  // namespace
+
+nlohmann::json comparison_json(const Comparison& c) {
+  nlohmann::json j;
+  j["base"] = c.base_label;
+  j["new"] = c.new_label;
+  j["thresholds"] = {{"alpha", c.thresholds.alpha},
+                     {"max_success_drop", c.thresholds.max_success_drop},
+                     {"max_time_ratio", c.thresholds.max_time_ratio},
+                     {"max_work_ratio", c.thresholds.max_work_ratio},
+                     {"min_time_pairs", c.thresholds.min_time_pairs},
+                     {"max_new_failures", c.thresholds.max_new_failures}};
+  j["regression"] = c.regression();
+  j["overall"] = group_json(c.overall);
+  j["groups"] = nlohmann::json::array();
+  for (const PairedGroup& g : c.groups) j["groups"].push_back(group_json(g));
+  j["only_in_base"] = c.only_in_base;
+  j["only_in_new"] = c.only_in_new;
+  j["flips"] = nlohmann::json::array();
+  for (const Comparison::Flip& f : c.flips) {
+    j["flips"].push_back({{"base_id", f.base_id},
+                          {"new_id", f.new_id},
+                          {"base_status", f.base_status},
+                          {"new_status", f.new_status},
+                          {"now_succeeds", f.now_succeeds}});
+  }
+  return j;
+}
+
+std::string comparison_markdown(const Comparison& c) {
+  const PairedGroup& o = c.overall;
+  const CompareThresholds& t = c.thresholds;
+  std::string md = "# Compare " + c.base_label + " -> " + c.new_label + "\n\n";
+  md += printf_string("%.0f trials paired", o.pairs);
+  if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
+    md += printf_string(" (%.0f only in the base, %.0f only in the new run, left out)",
+                        static_cast<double>(c.only_in_base.size()),
+                        static_cast<double>(c.only_in_new.size()));
+  }
+  md += ".\n\n";
+  md += c.regression() ? "**Verdict: regression.**\n\n" : "**Verdict: no regression.**\n\n";
+  md += printf_string(
+      "Thresholds: a success drop of at least %.0f points with McNemar p < %.2f; a planning "
+      "time ratio whose 95%% interval lies above x%.2f with Wilcoxon p < %.2f",
+      100 * t.max_success_drop, t.alpha, t.max_time_ratio, t.alpha);
+  md += printf_string(" (at least %.0f pairs); total collision checks above x%.2f",
+                      t.min_time_pairs, t.max_work_ratio);
+  if (t.max_new_failures >= 0) {
+    md += printf_string("; more than %.0f trials that now fail", t.max_new_failures);
+  }
+  md += ".\n\n";
+  md += "| | base | new | change |\n|---|---|---|---|\n";
+  md += printf_string("| success | %.0f/%.0f (%.1f%%..%.1f%%) |", o.base_successes, o.pairs,
+                      100 * o.base_ci.low, 100 * o.base_ci.high) +
+        printf_string(" %.0f/%.0f (%.1f%%..%.1f%%) |", o.new_successes, o.pairs, 100 * o.new_ci.low,
+                      100 * o.new_ci.high) +
+        printf_string(" %.0f now fail, %.0f now succeed; McNemar p = ", o.only_base_success,
+                      o.only_new_success) +
+        p_value(o.mcnemar_p) + " |\n";
+  if (o.time_pairs > 0) {
+    md += printf_string("| planning time (median s) | %.4f | %.4f |",
+                        quantile(o.base_planning_s, 0.5), quantile(o.new_planning_s, 0.5)) +
+          printf_string(" x%.3f (95%% CI %.3f..%.3f, %.0f pairs); Wilcoxon p = ", o.time_ratio,
+                        o.time_ratio_low, o.time_ratio_high, o.time_pairs) +
+          p_value(o.wilcoxon_p) + " |\n";
+  }
+  for (const WorkCountChange& w : o.work) {
+    md += "| " + w.field + printf_string(" | %.0f | %.0f |", w.base_total, w.new_total) +
+          (w.base_total > 0 ? printf_string(" x%.3f", w.new_total / w.base_total) : "") +
+          printf_string("; %.0f trials changed |\n", w.changed_trials);
+  }
+  const std::string overall = verdict(o);
+  md += "\nOverall: " + (overall == "-" ? std::string("no significant change") : overall) +
+        "\n\n## Per group\n\n";
+  md +=
+      "| scenario | robot | environment | planner | success | McNemar p | planning time ratio "
+      "(95% CI) | Wilcoxon p | collision checks | plan calls | verdict |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const PairedGroup& g : c.groups) {
+    const std::string planner =
+        g.base_planner == g.new_planner ? g.base_planner : g.base_planner + " -> " + g.new_planner;
+    md += "| " + g.scenario + " | " + g.robot + " | " + g.environment + " | " + planner + " | " +
+          success_cell(g) + " | " + p_value(g.mcnemar_p) + " | " + time_cell(g) + " | " +
+          p_value(g.wilcoxon_p) + " | " + work_cell(g, "collision_checks") + " | " +
+          work_cell(g, "plan_calls") + " | " + verdict(g) + " |\n";
+  }
+  if (!c.flips.empty()) {
+    md += "\n## Trials whose outcome changed\n\n| trial | base | new |\n|---|---|---|\n";
+    for (const Comparison::Flip& f : c.flips) {
+      const std::string id = f.base_id == f.new_id ? f.base_id : f.base_id + " / " + f.new_id;
+      md += "| " + id + " | " + f.base_status + " | " + f.new_status + " |\n";
+    }
+  }
+  if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
+    md += "\n## Unpaired trials\n\n";
+    for (const std::string& id : c.only_in_base) md += "- only in the base: " + id + "\n";
+    for (const std::string& id : c.only_in_new) md += "- only in the new run: " + id + "\n";
+  }
+  return md;
+}
+
+}  // namespace taskmatrix::harness

@@ -1,0 +1,89 @@
+// Comparing two sets of the same trials (same scenarios, robots, environments, layouts and
+// seeds): two run directories (`taskmatrix compare BASE NEW`), or two planners of one run
+// (`taskmatrix run --planners A,B`). Trials are paired by their identity; per group (scenario,
+// program, robot, environment, planner) and over all pairs it reports
+//   - success: both rates with Wilson intervals, and McNemar's exact test on the pairs whose
+//     outcome changed;
+//   - planning time: the geometric mean of the per-trial ratios new/base, its 95% percentile
+//     bootstrap interval and Wilcoxon's signed-rank test on the log ratios (pairs where both
+//     trials planned);
+//   - work counts (collision checks, plan calls, planner runs, IK calls): totals and the number
+//     of trials whose count changed (these are deterministic for a given build and seed);
+// and judges each as a regression or an improvement against CompareThresholds.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/summary.h"
+
+namespace taskmatrix::harness {
+
+// When a change counts. The defaults are the README's.
+struct CompareThresholds {
+  double alpha = 0.05;             // significance level of McNemar's and Wilcoxon's tests
+  double max_success_drop = 0.05;  // success rate drop (absolute) that, if significant, fails
+  double max_time_ratio = 1.25;    // planning time: the interval's lower bound above it fails
+  double max_work_ratio = 1.25;    // collision checks, new/base totals: above it fails
+  int min_time_pairs = 5;          // fewer pairs that both planned: no time verdict
+  // Trials repeat exactly on the same build (same seeds, same layouts), so a trial that now
+  // fails is a change, not chance: more such pairs than this, over all groups, fail (< 0: off).
+  int max_new_failures = -1;
+};
+
+struct WorkCountChange {
+  std::string field;  // collision_checks, plan_calls, planner_runs, ik_calls
+  double base_total = 0, new_total = 0;
+  int changed_trials = 0;  // pairs whose counts differ
+};
+
+struct PairedGroup {
+  std::string scenario, program, robot, environment;
+  std::string base_planner, new_planner;  // equal when comparing runs
+  int pairs = 0;
+  int base_successes = 0, new_successes = 0;
+  Interval base_ci, new_ci;
+  int only_base_success = 0, only_new_success = 0;  // discordant pairs
+  double mcnemar_p = 1;
+  // Planning time, over pairs where both trials planned (planning_time_s > 0).
+  int time_pairs = 0;
+  double time_ratio = NAN, time_ratio_low = NAN, time_ratio_high = NAN;
+  double wilcoxon_p = NAN;
+  std::vector<double> base_planning_s, new_planning_s;  // paired, for plots
+  std::vector<std::string> time_pair_ids;               // the new trial of each such pair
+  std::vector<WorkCountChange> work;
+  // Verdicts against the thresholds, e.g. "success 100% -> 67% (McNemar p = 0.031)".
+  std::vector<std::string> regressions, improvements;
+};
+
+struct Comparison {
+  std::string base_label, new_label;  // run directories or planner labels
+  CompareThresholds thresholds;
+  std::vector<PairedGroup> groups;  // sorted by scenario, program, robot, environment, planner
+  PairedGroup overall;              // every pair pooled
+  std::vector<std::string> only_in_base, only_in_new;  // trial ids without a partner
+  // Ids of pairs whose success changed, with both statuses.
+  struct Flip {
+    std::string base_id, new_id, base_status, new_status;
+    bool now_succeeds = false;
+  };
+  std::vector<Flip> flips;
+  bool regression() const;
+};
+
+// The identity of a trial for pairing: every field of its id, with or without the planner.
+std::string pairing_key(const nlohmann::json& trial, bool with_planner);
+
+// Pairs `base` and `fresh` trials by pairing_key(trial, with_planner) and compares them.
+// Trials whose key appears twice on one side throw std::invalid_argument.
+Comparison compare_trials(const std::vector<nlohmann::json>& base,
+                          const std::vector<nlohmann::json>& fresh, bool with_planner,
+                          const CompareThresholds& thresholds);
+
+nlohmann::json comparison_json(const Comparison& c);
+std::string comparison_markdown(const Comparison& c);
+
+}  // namespace taskmatrix::harness

@@ -1,0 +1,171 @@
+#include "harness/compare_job.h"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "harness/html_report.h"
+#include "harness/trial_record.h"
+#include "taskmatrix/core/input_error.h"
+
+namespace taskmatrix::harness {
+
+namespace {
+
+using core::InputError;
+
+void require(const nlohmann::json& t, const char* key, nlohmann::json::value_t type,
+             const std::filesystem::path& file, size_t line) {
+  const auto it = t.find(key);
+  const bool ok =
+      it != t.end() &&
+      (type == nlohmann::json::value_t::number_unsigned ? it->is_number() : it->type() == type);
+  if (!ok) {
+    throw InputError(file.string(), "line " + std::to_string(line) + ": " + key,
+                     it == t.end() ? "missing" : "has the wrong type");
+  }
+}
+
+nlohmann::json read_provenance(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "provenance.json");
+  if (!in) return nullptr;
+  nlohmann::json p = nlohmann::json::parse(in, nullptr, false);
+  return p.is_discarded() ? nlohmann::json(nullptr) : p;
+}
+
+std::vector<TrialSnapshot> snapshots(const CompareJobOptions& o, const Comparison& c,
+                                     const std::vector<nlohmann::json>& base,
+                                     const std::vector<nlohmann::json>& fresh, int& left_out) {
+  // Failures of the new run first, then the base's failures that the new run does not repeat.
+  std::vector<std::pair<const nlohmann::json*, bool>> failed;  // trial, is the new run's
+  std::set<std::string> failed_in_new;
+  for (const nlohmann::json& t : fresh) {
+    if (!t.value("success", false)) {
+      failed.push_back({&t, true});
+      failed_in_new.insert(pairing_key(t, !o.ignore_planner));
+    }
+  }
+  for (const nlohmann::json& t : base) {
+    if (!t.value("success", false) && !failed_in_new.count(pairing_key(t, !o.ignore_planner))) {
+      failed.push_back({&t, false});
+    }
+  }
+  std::stable_sort(failed.begin(), failed.end(), [](const auto& a, const auto& b) {
+    return a.second != b.second ? a.second
+                                : (*a.first)["trial_id"].template get<std::string>() <
+                                      (*b.first)["trial_id"].template get<std::string>();
+  });
+  (void)c;
+  std::vector<TrialSnapshot> out;
+  left_out = 0;
+  for (const auto& [t, is_new] : failed) {
+    if (static_cast<int>(out.size()) >= o.max_snapshots) {
+      ++left_out;
+      continue;
+    }
+    TrialSnapshot s;
+    s.run = is_new ? "new" : "base";
+    s.trial_id = (*t)["trial_id"].get<std::string>();
+    s.status = t->value("status", std::string());
+    s.reason = t->value("failure_reason", std::string());
+    if (o.snapshot) {
+      try {
+        s.png = o.snapshot((is_new ? o.new_dir : o.base_dir).string() + ":" + s.trial_id);
+      } catch (const std::exception& e) {
+        s.note = std::string("no picture: ") + e.what();
+      }
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+// The beginning of the Markdown (verdict and overall table) and every group with a verdict.
+std::string console_text(const Comparison& c) {
+  const std::string md = comparison_markdown(c);
+  std::string text = md.substr(0, md.find("## Per group"));
+  for (const PairedGroup& g : c.groups) {
+    const std::string name =
+        g.scenario + " " + g.robot + " " + g.environment + " " +
+        (g.base_planner == g.new_planner ? g.new_planner : g.base_planner + "->" + g.new_planner);
+    for (const std::string& r : g.regressions) text += "REGRESSION " + name + ": " + r + "\n";
+    for (const std::string& r : g.improvements) text += "better     " + name + ": " + r + "\n";
+  }
+  return text;
+}
+
+}  // namespace
+
+std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir) {
+  if (!std::filesystem::is_directory(run_dir)) {
+    throw InputError(run_dir.string(), "", "no such run directory");
+  }
+  const std::filesystem::path file = run_dir / "trials.jsonl";
+  if (!std::filesystem::exists(file)) {
+    throw InputError(file.string(), "", "missing: not a run directory of taskmatrix run");
+  }
+  TrialsFile f = read_trials_file(file);
+  using T = nlohmann::json::value_t;
+  for (size_t i = 0; i < f.trials.size(); ++i) {
+    const nlohmann::json& t = f.trials[i];
+    if (!t.is_object())
+      throw InputError(file.string(), "line " + std::to_string(i + 1), "not an object");
+    for (const char* key :
+         {"trial_id", "scenario", "program", "robot", "environment", "planner", "status"}) {
+      require(t, key, T::string, file, i + 1);
+    }
+    require(t, "success", T::boolean, file, i + 1);
+    for (const char* key : {"seed", "layout_seed"})
+      require(t, key, T::number_unsigned, file, i + 1);
+  }
+  if (f.trials.empty()) throw InputError(file.string(), "", "holds no finished trial");
+  return std::move(f.trials);
+}
+
+CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) {
+  const std::vector<nlohmann::json> base = read_run_trials(o.base_dir);
+  const std::vector<nlohmann::json> fresh = read_run_trials(o.new_dir);
+  CompareJobResult r;
+  try {
+    r.comparison = compare_trials(base, fresh, !o.ignore_planner, o.thresholds);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(
+        (o.base_dir / "trials.jsonl").string() + ", " + (o.new_dir / "trials.jsonl").string(), "",
+        e.what());
+  }
+  Comparison& c = r.comparison;
+  c.base_label = o.base_dir.string();
+  c.new_label = o.new_dir.string();
+  if (c.overall.pairs == 0) {
+    std::set<std::string> bp, np;
+    for (const nlohmann::json& t : base) bp.insert(t["planner"].get<std::string>());
+    for (const nlohmann::json& t : fresh) np.insert(t["planner"].get<std::string>());
+    std::string hint;
+    if (bp != np && !o.ignore_planner) {
+      hint = " (the runs' planners differ: " + *bp.begin() + " and " + *np.begin() +
+             "; --ignore-planner pairs them anyway)";
+    }
+    throw InputError(o.new_dir.string(), "trial_id",
+                     "no trial has a partner in " + o.base_dir.string() +
+                         ": the runs hold different scenarios, robots, environments or seeds" +
+                         hint);
+  }
+  out << console_text(c);
+  if (!o.report_dir.empty()) {
+    std::filesystem::create_directories(o.report_dir);
+    int left_out = 0;
+    const std::vector<TrialSnapshot> pictures = snapshots(o, c, base, fresh, left_out);
+    write_file_atomically(o.report_dir / "compare.md", comparison_markdown(c));
+    write_file_atomically(o.report_dir / "compare.json", comparison_json(c).dump(2) + "\n");
+    r.report = o.report_dir / "report.html";
+    write_file_atomically(r.report, compare_html(c, base, fresh, read_provenance(o.base_dir),
+                                                 read_provenance(o.new_dir), pictures, left_out));
+    out << "report: " << r.report.string() << " (" << pictures.size()
+        << " failed trials pictured)\n";
+  }
+  return r;
+}
+
+}  // namespace taskmatrix::harness

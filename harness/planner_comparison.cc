@@ -1,0 +1,128 @@
+#include "harness/planner_comparison.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "harness/html_report.h"
+#include "harness/summary.h"
+
+namespace taskmatrix::harness {
+
+namespace {
+
+std::vector<nlohmann::json> of_planner(const std::vector<nlohmann::json>& trials,
+                                       const std::string& planner) {
+  std::vector<nlohmann::json> out;
+  for (const nlohmann::json& t : trials) {
+    if (t.value("planner", std::string()) == planner) out.push_back(t);
+  }
+  return out;
+}
+
+std::string fmt(const char* format, double v) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string p_text(double p) {
+  if (!std::isfinite(p)) return "-";
+  return p < 0.001 ? "<0.001" : fmt("%.3f", p);
+}
+
+}  // namespace
+
+std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& trials,
+                                         const std::vector<std::string>& planners) {
+  std::vector<Comparison> out;
+  if (planners.size() < 2) return out;
+  const std::vector<nlohmann::json> reference = of_planner(trials, planners[0]);
+  if (reference.empty()) return out;
+  for (size_t i = 1; i < planners.size(); ++i) {
+    const std::vector<nlohmann::json> other = of_planner(trials, planners[i]);
+    if (other.empty()) continue;
+    Comparison c = compare_trials(reference, other, /*with_planner=*/false, CompareThresholds{});
+    c.base_label = planners[0];
+    c.new_label = planners[i];
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
+                                   const std::vector<std::string>& planners,
+                                   const std::vector<Comparison>& vs_reference) {
+  if (vs_reference.empty()) return "";
+  std::string md = "\n## Planners, each against " + planners[0] +
+                   " on the same trials\n\n"
+                   "| planner | success | 95% CI | planning s (median) | McNemar p | planning "
+                   "time ratio (95% CI) | Wilcoxon p | collision checks ratio | verdict |\n"
+                   "|---|---|---|---|---|---|---|---|---|\n";
+  for (const std::string& planner : planners) {
+    const std::vector<nlohmann::json> mine = of_planner(trials, planner);
+    if (mine.empty()) continue;
+    int s = 0;
+    std::vector<double> times;
+    for (const nlohmann::json& t : mine) {
+      s += t.value("success", false);
+      const auto it = t.find("planning_time_s");
+      if (it != t.end() && it->is_number()) times.push_back(it->get<double>());
+    }
+    const int n = static_cast<int>(mine.size());
+    const Interval ci = wilson_interval(s, n);
+    md += "| " + planner + " | " + std::to_string(s) + "/" + std::to_string(n) + " | " +
+          fmt("%.0f%%", 100 * ci.low) + ".." + fmt("%.0f%%", 100 * ci.high) + " | " +
+          fmt("%.4f", quantile(times, 0.5)) + " | ";
+    const Comparison* c = nullptr;
+    for (const Comparison& v : vs_reference) {
+      if (v.new_label == planner) c = &v;
+    }
+    if (c == nullptr) {
+      md += "- | reference | - | - | reference |\n";
+      continue;
+    }
+    const PairedGroup& o = c->overall;
+    double checks = NAN;
+    for (const WorkCountChange& w : o.work) {
+      if (w.field == "collision_checks" && w.base_total > 0) checks = w.new_total / w.base_total;
+    }
+    std::string verdict;
+    for (const std::string& r : o.regressions) verdict += (verdict.empty() ? "worse: " : "; ") + r;
+    for (const std::string& r : o.improvements) {
+      verdict += (verdict.empty() ? "better: " : "; better: ") + r;
+    }
+    md +=
+        p_text(o.mcnemar_p) + " | " +
+        (o.time_pairs > 0 ? "x" + fmt("%.2f", o.time_ratio) + " (" + fmt("%.2f", o.time_ratio_low) +
+                                ".." + fmt("%.2f", o.time_ratio_high) + ")"
+                          : "-") +
+        " | " + p_text(o.wilcoxon_p) + " | " + fmt("x%.2f", checks) + " | " +
+        (verdict.empty() ? "no significant difference" : verdict) + " |\n";
+  }
+  md += "\nPer group: planners.md; plots: planners.html.\n";
+  return md;
+}
+
+void write_planner_comparison(const std::filesystem::path& dir, const std::string& run_name,
+                              const std::vector<nlohmann::json>& trials,
+                              const std::vector<std::string>& planners,
+                              const std::vector<Comparison>& vs_reference) {
+  std::string md = "# Planners of run " + run_name + "\n" +
+                   planner_table_markdown(trials, planners, vs_reference);
+  for (const Comparison& c : vs_reference) {
+    std::string section = comparison_markdown(c);
+    section.replace(0, section.find('\n'), "## " + c.new_label + " against " + c.base_label);
+    // Demote the comparison's own headings by one level.
+    for (size_t at = section.find("\n## "); at != std::string::npos;
+         at = section.find("\n## ", at + 5)) {
+      section.insert(at + 1, "#");
+    }
+    md += "\n" + section;
+  }
+  write_file_atomically(dir / "planners.md", md);
+  write_file_atomically(dir / "planners.html",
+                        planners_html(run_name, trials, planners, vs_reference));
+}
+
+}  // namespace taskmatrix::harness
