@@ -89,8 +89,7 @@ std::string overall_table(const Comparison& c, const std::string& base_name,
   const PairedGroup& o = c.overall;
   std::string s = "<table><tr><th></th><th>" + html_escape(base_name) + "</th><th>" +
                   html_escape(new_name) + "</th><th>change</th></tr>";
-  s += "<tr" + row_class(o) + "><td>success</td>" +
-       td(success_text(o.base_successes, o.pairs, o.base_ci)) +
+  s += "<tr><td>success</td>" + td(success_text(o.base_successes, o.pairs, o.base_ci)) +
        td(success_text(o.new_successes, o.pairs, o.new_ci)) +
        td(std::to_string(o.only_base_success) + " now fail, " + std::to_string(o.only_new_success) +
           " now succeed; McNemar p = " + p_text(o.mcnemar_p)) +
@@ -109,8 +108,7 @@ std::string overall_table(const Comparison& c, const std::string& base_name,
          "</tr>";
   }
   const std::string verdict = verdict_text(o);
-  return s + "</table><p>Overall: " + (verdict == "-" ? "no significant change" : verdict) +
-         "</p>";
+  return s + "</table><p>Overall: " + (verdict == "-" ? "no significant change" : verdict) + "</p>";
 }
 
 std::string group_table(const Comparison& c) {

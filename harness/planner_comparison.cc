@@ -56,24 +56,27 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
   if (vs_reference.empty()) return "";
   std::string md = "\n## Planners, each against " + planners[0] +
                    " on the same trials\n\n"
-                   "| planner | success | 95% CI | planning s (median) | McNemar p | planning "
-                   "time ratio (95% CI) | Wilcoxon p | collision checks ratio | verdict |\n"
-                   "|---|---|---|---|---|---|---|---|---|\n";
+                   "| planner | success | 95% CI | planning s (median) | joint path (median) | "
+                   "McNemar p | planning time ratio (95% CI) | Wilcoxon p | collision checks "
+                   "ratio | verdict |\n"
+                   "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& planner : planners) {
     const std::vector<nlohmann::json> mine = of_planner(trials, planner);
     if (mine.empty()) continue;
     int s = 0;
-    std::vector<double> times;
+    std::vector<double> times, path;
     for (const nlohmann::json& t : mine) {
       s += t.value("success", false);
       const auto it = t.find("planning_time_s");
       if (it != t.end() && it->is_number()) times.push_back(it->get<double>());
+      const auto pl = t.find("path_length_joint");
+      if (pl != t.end() && pl->is_number()) path.push_back(pl->get<double>());
     }
     const int n = static_cast<int>(mine.size());
     const Interval ci = wilson_interval(s, n);
     md += "| " + planner + " | " + std::to_string(s) + "/" + std::to_string(n) + " | " +
           fmt("%.0f%%", 100 * ci.low) + ".." + fmt("%.0f%%", 100 * ci.high) + " | " +
-          fmt("%.4f", quantile(times, 0.5)) + " | ";
+          fmt("%.4f", quantile(times, 0.5)) + " | " + fmt("%.2f", quantile(path, 0.5)) + " | ";
     const Comparison* c = nullptr;
     for (const Comparison& v : vs_reference) {
       if (v.new_label == planner) c = &v;

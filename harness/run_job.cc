@@ -12,6 +12,7 @@
 #include <set>
 
 #include "harness/ompl_log.h"
+#include "harness/planner_comparison.h"
 #include "harness/provenance.h"
 #include "harness/summary.h"
 #include "harness/trajectory_file.h"
@@ -216,7 +217,8 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   if (write_dir) {
     std::filesystem::create_directories(result.dir / "trajectories");
     if (!options.resume) {
-      for (const char* name : {"trials.jsonl", "summary.json", "summary.md", "ompl.log"}) {
+      for (const char* name : {"trials.jsonl", "summary.json", "summary.md", "ompl.log",
+                               "planners.md", "planners.html"}) {
         std::filesystem::remove(result.dir / name);
       }
       for (const auto& entry : std::filesystem::directory_iterator(result.dir / "trajectories")) {
@@ -326,8 +328,26 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (write_dir) {
     RunInfo info{plan.name, plan.doc, result.planned, result.interrupted, wall, options.jobs};
-    const nlohmann::json summary = make_summary(info, finished);
-    write_summary(result.dir, summary);
+    nlohmann::json summary = make_summary(info, finished);
+    // Several planners: each against the first, on the same trials.
+    std::vector<std::string> planners;
+    for (const Scenario& s : plan.scenarios) {
+      for (const PlannerConfig& pc : s.planners) {
+        if (std::find(planners.begin(), planners.end(), pc.label) == planners.end()) {
+          planners.push_back(pc.label);
+        }
+      }
+    }
+    const std::vector<Comparison> vs_reference = compare_planners(finished, planners);
+    std::string appendix;
+    if (!vs_reference.empty()) {
+      nlohmann::json comparisons = nlohmann::json::array();
+      for (const Comparison& c : vs_reference) comparisons.push_back(comparison_json(c));
+      summary["planner_comparison"] = {{"reference", planners[0]}, {"comparisons", comparisons}};
+      appendix = planner_table_markdown(finished, planners, vs_reference);
+      write_planner_comparison(result.dir, plan.name, finished, planners, vs_reference);
+    }
+    write_summary(result.dir, summary, appendix);
     write_file_atomically(result.dir / "ompl.log",
                           ompl_log_text(ompl_info(plan, provenance, wall), finished));
     provenance["finished_at"] = utc_now_iso();
@@ -338,7 +358,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
                             {"resumed_from", kept.size()},
                             {"interrupted", result.interrupted}};
     write_file_atomically(result.dir / "provenance.json", provenance.dump(2) + "\n");
-    if (options.only.empty()) out << summary_markdown(summary);
+    if (options.only.empty()) out << summary_markdown(summary) << appendix;
   }
   return result;
 }

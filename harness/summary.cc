@@ -175,9 +175,10 @@ void write_file_atomically(const std::filesystem::path& file, const std::string&
   std::filesystem::rename(tmp, file);
 }
 
-void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary) {
+void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary,
+                   const std::string& appendix) {
   write_file_atomically(dir / "summary.json", summary.dump(2) + "\n");
-  write_file_atomically(dir / "summary.md", summary_markdown(summary));
+  write_file_atomically(dir / "summary.md", summary_markdown(summary) + appendix);
 }
 
 }  // namespace taskmatrix::harness

@@ -33,8 +33,10 @@ struct RunInfo {
 
 nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials);
 std::string summary_markdown(const nlohmann::json& summary);
-// Writes summary.json and summary.md into `dir` (each atomically).
-void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary);
+// Writes summary.json and summary.md (with `appendix` after the table) into `dir`, each
+// atomically.
+void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary,
+                   const std::string& appendix = "");
 
 // Writes `text` to `file` through a temporary file and a rename.
 void write_file_atomically(const std::filesystem::path& file, const std::string& text);

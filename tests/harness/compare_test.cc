@@ -23,9 +23,9 @@ namespace {
 TEST(PairedStats, McNemarExactMatchesTheBinomialTail) {
   EXPECT_DOUBLE_EQ(mcnemar_exact_p(0, 0), 1.0);
   EXPECT_DOUBLE_EQ(mcnemar_exact_p(3, 3), 1.0);
-  EXPECT_DOUBLE_EQ(mcnemar_exact_p(0, 5), 2.0 / 32);  // 0.0625: 5 flips cannot be significant
-  EXPECT_DOUBLE_EQ(mcnemar_exact_p(9, 1), 2.0 * 11 / 1024);  // 0.0215
-  EXPECT_DOUBLE_EQ(mcnemar_exact_p(0, 8), 2.0 / 256);
+  EXPECT_NEAR(mcnemar_exact_p(0, 5), 2.0 / 32, 1e-15);  // 0.0625: 5 flips cannot be significant
+  EXPECT_NEAR(mcnemar_exact_p(9, 1), 2.0 * 11 / 1024, 1e-15);  // 0.0215
+  EXPECT_NEAR(mcnemar_exact_p(0, 8), 2.0 / 256, 1e-15);
   EXPECT_NEAR(mcnemar_exact_p(200, 150), 0.00872, 2e-5);  // large n: summed in logs
 }
 
@@ -144,14 +144,26 @@ TEST(CompareTrials, SignificantSuccessDropIsARegressionAndSmallOnesAreNot) {
 TEST(CompareTrials, PlanningTimeRatioAndItsInterval) {
   const auto base =
       run_of(10, [](int i) { return trial("reach", "minibot", i, true, 0.01 * i, 100); });
-  const auto slower =
+  // Every trial twice as slow: the interval is the point, and (all ranks tied) Wilcoxon's
+  // normal approximation gives p = 0.0019.
+  const auto twice =
       run_of(10, [](int i) { return trial("reach", "minibot", i, true, 0.02 * i, 100); });
-  const Comparison c = compare_trials(base, slower, true, {});
+  const Comparison c = compare_trials(base, twice, true, {});
   EXPECT_NEAR(c.overall.time_ratio, 2.0, 1e-9);
   EXPECT_NEAR(c.overall.time_ratio_low, 2.0, 1e-9);
-  EXPECT_NEAR(c.overall.wilcoxon_p, 2.0 / 1024, 1e-12);
+  EXPECT_NEAR(c.overall.time_ratio_high, 2.0, 1e-9);
+  EXPECT_NEAR(c.overall.wilcoxon_p, 0.001904, 1e-6);
   EXPECT_TRUE(c.regression());
   EXPECT_NE(c.overall.regressions.at(0).find("planning time x2.00"), std::string::npos);
+  // 1.9x to 2.35x, all different: exact p = 2/1024, interval inside the range.
+  const auto slower = run_of(10, [](int i) {
+    return trial("reach", "minibot", i, true, 0.01 * i * (1.9 + 0.05 * i), 100);
+  });
+  const Comparison e = compare_trials(base, slower, true, {});
+  EXPECT_NEAR(e.overall.wilcoxon_p, 2.0 / 1024, 1e-12);
+  EXPECT_GT(e.overall.time_ratio_low, 1.95);
+  EXPECT_LT(e.overall.time_ratio_high, 2.3);
+  EXPECT_TRUE(e.regression());
   // 10% slower with noise: below the 1.25 threshold, no verdict.
   const auto noisy = run_of(10, [](int i) {
     return trial("reach", "minibot", i, true, 0.01 * i * (i % 2 ? 1.2 : 1.0), 100);
@@ -341,7 +353,8 @@ class CompareRuns : public ::testing::Test {
 };
 
 TEST_F(CompareRuns, ARunAgainstItsRepeatIsNoRegressionAndFailuresArePictured) {
-  // Reach on both robots, plus a visitor out of reach (fails with ik_failure at once).
+  // Reach on both robots, plus a pickup of a visitor out of reach (fails with ik_failure at
+  // once).
   const std::string suite =
       "name: mixed\nprogram: reach\nparams: {object: cup}\nrobots: [minibot, tallbot]\n"
       "environments: [kitchen]\nobstacles: {count: 4}\nlayout_seed: 5\ntrials: 2\n"
@@ -349,7 +362,7 @@ TEST_F(CompareRuns, ARunAgainstItsRepeatIsNoRegressionAndFailuresArePictured) {
   const RunJobResult a = run(suite, "a");
   const RunJobResult b = run(suite, "b");
   std::ofstream(dir_ / "far.yaml")
-      << "name: far\nprogram: reach\nparams: {object: visitor, step: false}\nrobots: [minibot]\n"
+      << "name: far\nprogram: pickup\nparams: {object: visitor, step: false}\nrobots: [minibot]\n"
          "environments: [office]\ntrials: 1\ntime_limit_s: 10\n";
   RunJobOptions options;
   options.scenario_file = dir_ / "far.yaml";
@@ -388,7 +401,7 @@ TEST_F(CompareRuns, SeveralPlannersAreComparedOnTheSameTrials) {
   RunOverrides o;
   o.planners = {"RRTConnect", "RRT"};
   const RunJobResult r =
-      run("name: planners\nprogram: reach\nparams: {object: cup}\nrobots: [minibot]\n"
+      run("name: planners\nprogram: reach\nparams: {object: cup}\nrobots: [tallbot]\n"
           "environments: [kitchen]\nobstacles: {count: 4}\nlayout_seed: 5\ntrials: 3\n"
           "time_limit_s: 30\nsuccess: graspable(cup)\n",
           "planners", o);

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# The regression check, for CI: runs scenarios/suites/regression.yaml and compares it, trial by
+# trial, with the committed baseline results/baselines/regression/ (taskmatrix compare
+# --fail-on-regression). Assumes a build (scripts/setup.sh).
+#
+#   scripts/regression_check.sh [--fast] [--out DIR]   check; exit 0 passed, 1 regression,
+#                                                      2 bad input or a broken run
+#   scripts/regression_check.sh --record               run the full suite, store it as the baseline
+#
+# --fast runs one layout per group (24 of the 48 trials); they pair with the baseline's first.
+# Thresholds: taskmatrix compare's defaults (a significant success drop of 5 points, collision
+# checks above x1.25), no trial that succeeded in the baseline may now fail (trials repeat
+# exactly for the same build and seeds), and planning time fails only when its 95% interval
+# lies above x2 (times depend on the machine and its load; the baseline's are this project's
+# 2-core CI machine's). Other thresholds: pass taskmatrix compare options after --.
+# The report (compare.md, report.html with pictures of failed trials) is in DIR/compare.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build="${TASKMATRIX_BUILD_DIR:-build}"
+suite=scenarios/suites/regression.yaml
+baseline=results/baselines/regression
+out=results/runs/regression-check
+fast=0
+record=0
+extra=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --fast) fast=1 ;;
+    --record) record=1 ;;
+    --out) out="$2"; shift ;;
+    --) shift; extra=("$@"); break ;;
+    *) echo "regression_check.sh: unknown option '$1' (see the comment at the top)" >&2; exit 2 ;;
+  esac
+  shift
+done
+taskmatrix="$build/bin/taskmatrix"
+[ -x "$taskmatrix" ] || { echo "regression_check.sh: $taskmatrix: not built (run scripts/setup.sh)" >&2; exit 2; }
+jobs="${TASKMATRIX_JOBS:-2}"
+
+if [ "$record" = 1 ]; then
+  "$taskmatrix" run "$suite" --out "$out" --jobs "$jobs" --progress off > /dev/null
+  mkdir -p "$baseline"
+  for f in trials.jsonl summary.json summary.md provenance.json; do cp "$out/$f" "$baseline/$f"; done
+  echo "regression_check.sh: baseline recorded in $baseline ($(wc -l < "$baseline/trials.jsonl") trials)"
+  exit 0
+fi
+
+run_args=()
+[ "$fast" = 1 ] && run_args=(--trials 1)
+"$taskmatrix" run "$suite" --out "$out" --jobs "$jobs" --progress off "${run_args[@]}" > /dev/null
+exec "$taskmatrix" compare "$baseline" "$out" --report "$out/compare" --fail-on-regression \
+  --max-new-failures 0 --max-time-ratio 2 "${extra[@]}"
