@@ -38,6 +38,12 @@ std::string p_value(double p) {
   return p < 0.001 ? std::string("<0.001") : printf_string("%.3f", p);
 }
 
+// "= 0.012" or "< 0.001", after "p ".
+std::string p_phrase(double p) {
+  if (!std::isfinite(p)) return "= -";
+  return p < 0.001 ? std::string("< 0.001") : "= " + printf_string("%.3f", p);
+}
+
 struct Pair {
   const nlohmann::json* base;
   const nlohmann::json* fresh;
@@ -91,7 +97,7 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
   const std::string success =
       printf_string("success %.0f%% -> %.0f%% (%.0f pairs: %.0f now fail", 100 * base_rate,
                     100 * new_rate, g.pairs, g.only_base_success) +
-      printf_string(", %.0f now succeed; McNemar p = ", g.only_new_success) + p_value(g.mcnemar_p) +
+      printf_string(", %.0f now succeed; McNemar p ", g.only_new_success) + p_phrase(g.mcnemar_p) +
       ")";
   constexpr double kEps = 1e-12;
   if (g.mcnemar_p < t.alpha && base_rate - new_rate >= t.max_success_drop - kEps) {
@@ -101,9 +107,9 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
   }
   if (g.time_pairs >= t.min_time_pairs && g.wilcoxon_p < t.alpha) {
     const std::string time =
-        printf_string("planning time x%.2f (95%% CI %.2f..%.2f, %.0f pairs; Wilcoxon p = ",
+        printf_string("planning time x%.2f (95%% CI %.2f..%.2f, %.0f pairs; Wilcoxon p ",
                       g.time_ratio, g.time_ratio_low, g.time_ratio_high, g.time_pairs) +
-        p_value(g.wilcoxon_p) + ")";
+        p_phrase(g.wilcoxon_p) + ")";
     if (g.time_ratio_low > t.max_time_ratio) g.regressions.push_back(time);
     if (g.time_ratio_high < 1.0 / t.max_time_ratio) g.improvements.push_back(time);
   }
@@ -325,20 +331,20 @@ std::string comparison_markdown(const Comparison& c) {
                       100 * o.base_ci.low, 100 * o.base_ci.high) +
         printf_string(" %.0f/%.0f (%.1f%%..%.1f%%) |", o.new_successes, o.pairs, 100 * o.new_ci.low,
                       100 * o.new_ci.high) +
-        printf_string(" %.0f now fail, %.0f now succeed; McNemar p = ", o.only_base_success,
+        printf_string(" %.0f now fail, %.0f now succeed; McNemar p ", o.only_base_success,
                       o.only_new_success) +
-        p_value(o.mcnemar_p) + " |\n";
+        p_phrase(o.mcnemar_p) + " |\n";
   if (o.time_pairs > 0) {
     md += printf_string("| planning time (median s) | %.4f | %.4f |",
                         quantile(o.base_planning_s, 0.5), quantile(o.new_planning_s, 0.5)) +
-          printf_string(" x%.3f (95%% CI %.3f..%.3f, %.0f pairs); Wilcoxon p = ", o.time_ratio,
+          printf_string(" x%.3f (95%% CI %.3f..%.3f, %.0f pairs); Wilcoxon p ", o.time_ratio,
                         o.time_ratio_low, o.time_ratio_high, o.time_pairs) +
-          p_value(o.wilcoxon_p) + " |\n";
+          p_phrase(o.wilcoxon_p) + " |\n";
   }
   for (const WorkCountChange& w : o.work) {
     md += "| " + w.field + printf_string(" | %.0f | %.0f |", w.base_total, w.new_total) +
-          (w.base_total > 0 ? printf_string(" x%.3f", w.new_total / w.base_total) : "") +
-          printf_string("; %.0f trials changed |\n", w.changed_trials);
+          (w.base_total > 0 ? printf_string(" x%.3f;", w.new_total / w.base_total) : "") +
+          printf_string(" %.0f trials changed |\n", w.changed_trials);
   }
   const std::string overall = verdict(o);
   md += "\nOverall: " + (overall == "-" ? std::string("no significant change") : overall) +

@@ -48,6 +48,11 @@ std::string p_text(double p) {
   return p < 0.001 ? "&lt;0.001" : fmt("%.3f", p);
 }
 
+std::string p_phrase(double p) {
+  if (!std::isfinite(p)) return "= -";
+  return p < 0.001 ? std::string("&lt; 0.001") : "= " + fmt("%.3f", p);
+}
+
 std::string td(const std::string& s) { return "<td>" + s + "</td>"; }
 
 std::string work_total(const PairedGroup& g, const std::string& field) {
@@ -92,13 +97,13 @@ std::string overall_table(const Comparison& c, const std::string& base_name,
   s += "<tr><td>success</td>" + td(success_text(o.base_successes, o.pairs, o.base_ci)) +
        td(success_text(o.new_successes, o.pairs, o.new_ci)) +
        td(std::to_string(o.only_base_success) + " now fail, " + std::to_string(o.only_new_success) +
-          " now succeed; McNemar p = " + p_text(o.mcnemar_p)) +
+          " now succeed; McNemar p " + p_phrase(o.mcnemar_p)) +
        "</tr>";
   if (o.time_pairs > 0) {
     s += "<tr><td>planning time per trial (median s)</td>" +
          td(fmt("%.4f", quantile(o.base_planning_s, 0.5))) +
          td(fmt("%.4f", quantile(o.new_planning_s, 0.5))) +
-         td(time_text(o) + "; Wilcoxon p = " + p_text(o.wilcoxon_p)) + "</tr>";
+         td(time_text(o) + "; Wilcoxon p " + p_phrase(o.wilcoxon_p)) + "</tr>";
   }
   for (const WorkCountChange& w : o.work) {
     s += "<tr><td>" + w.field + " (total)</td>" + td(fmt("%.0f", w.base_total)) +
