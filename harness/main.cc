@@ -1,5 +1,6 @@
-// The `taskmatrix` command line. Verbs: list, validate, run, render, scenes. Every failure is
-// one line on stderr and a non-zero exit status (2 for bad input).
+// The `taskmatrix` command line. Verbs: list, validate, run, render, scenes, compare,
+// bench-compare. Every failure is one line on stderr and a non-zero exit status (2 for bad
+// input; 1 for a regression when asked to fail on one).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,10 +11,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include "harness/bench_compare.h"
+#include "harness/compare_job.h"
 #include "harness/model_catalog.h"
 #include "harness/replay.h"
 #include "harness/run_job.h"
 #include "harness/scenes_job.h"
+#include "harness/trial_video.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/obstacle_layout.h"
 #include "taskmatrix/mujoco/motion_planner.h"
@@ -23,40 +27,40 @@
 
 namespace {
 
+using taskmatrix::harness::camera_view;
 using taskmatrix::harness::ModelCatalog;
 
 struct RenderOptions {
   std::string robot, environment, camera, posture = "rest", out;
   std::string trial;  // RUN_DIR:TRIAL_ID: a frame of a recorded trial
   double time = -1;   // of the trial's frame; < 0: the last frame
+  std::string video;  // with --trial: the whole trial as MP4 instead of one frame
+  double fps = 25, speed = 1.0;
   long long seed = 1;
   int obstacles = 8;
   int width = 960, height = 720;
   bool depth = false;
 };
 
-taskmatrix::mujoco::CameraView camera_view(const taskmatrix::mujoco::Scene& scene,
-                                           std::string& camera) {
-  taskmatrix::mujoco::CameraView view;
-  if (camera.empty())
-    camera = scene.environment().cameras.empty() ? "free" : scene.environment().cameras[0];
-  if (camera == "head") {
-    view.fixed_camera = scene.head_camera();
-  } else if (camera != "free") {
-    view.fixed_camera = mj_name2id(scene.model(), mjOBJ_CAMERA, camera.c_str());
-    if (view.fixed_camera < 0) {
-      std::string known = "head, free";
-      for (const std::string& c : scene.environment().cameras) known += ", " + c;
-      throw taskmatrix::core::InputError("--camera", "",
-                                         "unknown camera '" + camera + "' (known: " + known + ")");
-    }
-  }
-  return view;
-}
-
 int run_render_trial(const ModelCatalog& catalog, const RenderOptions& o) {
   namespace mj = taskmatrix::mujoco;
   namespace h = taskmatrix::harness;
+  if (o.out.empty() == o.video.empty()) {
+    throw taskmatrix::core::InputError(
+        "render", "", "--trial needs one of --out F.png (a frame) and --video F.mp4 (the trial)");
+  }
+  if (!o.video.empty()) {
+    h::VideoOptions options;
+    options.frame.camera = o.camera;
+    options.frame.width = o.width;
+    options.frame.height = o.height;
+    options.fps = o.fps;
+    options.speed = o.speed;
+    const h::VideoInfo info = h::write_trial_video(catalog, o.trial, o.video, options);
+    std::printf("%s: trial %s, %zu frames at %g fps (%.2f s), camera %s\n", o.video.c_str(),
+                o.trial.c_str(), info.frames, o.fps, info.duration_s, info.camera.c_str());
+    return 0;
+  }
   const std::filesystem::path file = h::trajectory_of(o.trial);
   h::Replay replay(catalog, h::read_trajectory_file(file));
   if (replay.frames() == 0)
@@ -78,6 +82,7 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   if (o.robot.empty() || o.environment.empty()) {
     throw taskmatrix::core::InputError("render", "", "needs --robot and --env, or --trial");
   }
+  if (o.out.empty()) throw taskmatrix::core::InputError("render", "", "needs --out F.png");
   auto scene = mj::Scene::load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
   mj::WorkerScene worker(scene);
   worker.apply_layout(scene->make_layout(o.obstacles, static_cast<std::uint64_t>(o.seed)));
@@ -158,7 +163,23 @@ int main(int argc, char** argv) {
   render->add_option("--height", render_options.height)
       ->check(CLI::Range(16, 960))
       ->capture_default_str();
-  render->add_option("--out", render_options.out, "output PNG")->required();
+  render->add_option("--out", render_options.out, "output PNG (needed unless --video)");
+  CLI::Option* video =
+      render
+          ->add_option("--video", render_options.video,
+                       "with --trial: the whole trial as H.264 MP4 (ffmpeg) instead of a frame")
+          ->needs(render->get_option("--trial"))
+          ->excludes(render->get_option("--out"))
+          ->excludes(render->get_option("--time"))
+          ->excludes(render->get_option("--depth"));
+  render->add_option("--fps", render_options.fps, "video frames per second")
+      ->check(CLI::Range(1.0, 240.0))
+      ->capture_default_str()
+      ->needs(video);
+  render->add_option("--speed", render_options.speed, "simulated seconds per video second")
+      ->check(CLI::Range(0.01, 100.0))
+      ->capture_default_str()
+      ->needs(video);
 
   taskmatrix::harness::ScenesJobOptions scenes_options;
   std::string scenes_out = scenes_options.out.string();
@@ -205,6 +226,68 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
 
+  taskmatrix::harness::BenchCompareOptions bench_options;
+  std::string bench_base, bench_new;
+  bool bench_fail = false;
+  CLI::App* bench_compare = app.add_subcommand(
+      "bench-compare",
+      "Compare two taskmatrix_bench JSON files: exact counters must match, times within noise");
+  bench_compare->add_option("BASE", bench_base, "baseline JSON (--benchmark_out_format=json)")
+      ->required();
+  bench_compare->add_option("NEW", bench_new, "new JSON")->required();
+  bench_compare
+      ->add_option("--time-tolerance", bench_options.time_tolerance,
+                   "relative slow-down allowed before a time is a regression (at least 3 cv)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  bench_compare->add_flag("--fail-on-regression", bench_fail, "exit 1 when anything regressed");
+
+  taskmatrix::harness::CompareJobOptions compare_options;
+  std::string compare_base, compare_new, compare_report;
+  bool compare_fail = false;
+  CLI::App* compare = app.add_subcommand(
+      "compare",
+      "Pair the trials of two run directories by id and test what changed (success, planning "
+      "time, work counts)");
+  compare->add_option("BASE_DIR", compare_base, "the baseline run directory")->required();
+  compare->add_option("NEW_DIR", compare_new, "the run directory to judge")->required();
+  compare->add_option("--report", compare_report,
+                      "write compare.md, compare.json and report.html (with pictures of failed "
+                      "trials) into this directory");
+  compare->add_flag("--fail-on-regression", compare_fail,
+                    "exit 1 when a change is a significant regression beyond the thresholds");
+  compare->add_flag("--ignore-planner", compare_options.ignore_planner,
+                    "pair trials whatever their planner label (one planner against another)");
+  compare->add_option("--alpha", compare_options.thresholds.alpha,
+                      "significance level of McNemar's and Wilcoxon's tests")
+      ->check(CLI::Range(1e-9, 0.5))
+      ->capture_default_str();
+  compare->add_option("--max-success-drop", compare_options.thresholds.max_success_drop,
+                      "success-rate drop (0..1) that fails when significant")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  compare->add_option("--max-time-ratio", compare_options.thresholds.max_time_ratio,
+                      "planning-time ratio new/base that fails when its 95% interval lies above")
+      ->check(CLI::Range(1.0, 1e6))
+      ->capture_default_str();
+  compare->add_option("--max-work-ratio", compare_options.thresholds.max_work_ratio,
+                      "ratio of total collision checks new/base above which a group fails")
+      ->check(CLI::Range(1.0, 1e6))
+      ->capture_default_str();
+  compare->add_option("--min-time-pairs", compare_options.thresholds.min_time_pairs,
+                      "fewest pairs that both planned for a planning-time verdict")
+      ->check(CLI::Range(2, 1000000))
+      ->capture_default_str();
+  compare->add_option("--max-new-failures", compare_options.thresholds.max_new_failures,
+                      "trials that succeeded in the base and now fail, beyond which the run "
+                      "fails whatever the test says (-1: off)")
+      ->check(CLI::Range(-1, 100000000))
+      ->capture_default_str();
+  compare->add_option("--max-snapshots", compare_options.max_snapshots,
+                      "failed trials pictured in report.html")
+      ->check(CLI::Range(0, 10000))
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -219,6 +302,10 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*bench_compare) {
+      return taskmatrix::harness::run_bench_compare(bench_base, bench_new, bench_options,
+                                                    bench_fail, std::cout);
+    }
     if (*list && (list_what == "programs" || list_what == "planners")) {
       taskmatrix::core::ProgramRegistry registry;
       taskmatrix::programs::register_programs(registry);
@@ -237,6 +324,20 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*render) return run_render(catalog, render_options);
+    if (*compare) {
+      compare_options.base_dir = compare_base;
+      compare_options.new_dir = compare_new;
+      compare_options.report_dir = compare_report;
+      compare_options.snapshot = [&catalog](const std::string& dir_and_trial) {
+        taskmatrix::harness::FrameOptions frame;
+        frame.width = 480;
+        frame.height = 360;
+        return taskmatrix::harness::trial_snapshot_png(catalog, dir_and_trial, -1, frame);
+      };
+      const taskmatrix::harness::CompareJobResult r =
+          taskmatrix::harness::run_compare_job(compare_options, std::cout);
+      return compare_fail && r.comparison.regression() ? 1 : 0;
+    }
     if (*validate || *run) {
       taskmatrix::core::ProgramRegistry registry;
       taskmatrix::programs::register_programs(registry);
