@@ -35,20 +35,24 @@ nlohmann::json read_provenance(const std::filesystem::path& dir) {
   return p.is_discarded() ? nlohmann::json(nullptr) : p;
 }
 
-std::vector<TrialSnapshot> snapshots(const CompareJobOptions& o, const Comparison& c,
+std::vector<TrialSnapshot> snapshots(const CompareJobOptions& o,
                                      const std::vector<nlohmann::json>& base,
                                      const std::vector<nlohmann::json>& fresh, int& left_out) {
-  // Failures of the new run first, then the base's failures that the new run does not repeat.
+  // Failures of the new run first, then the base's failures of paired trials that the new
+  // run does not repeat (a base trial without a partner is not part of the comparison).
   std::vector<std::pair<const nlohmann::json*, bool>> failed;  // trial, is the new run's
-  std::set<std::string> failed_in_new;
+  std::set<std::string> in_new, failed_in_new;
   for (const nlohmann::json& t : fresh) {
+    const std::string key = pairing_key(t, !o.ignore_planner);
+    in_new.insert(key);
     if (!t.value("success", false)) {
       failed.push_back({&t, true});
-      failed_in_new.insert(pairing_key(t, !o.ignore_planner));
+      failed_in_new.insert(key);
     }
   }
   for (const nlohmann::json& t : base) {
-    if (!t.value("success", false) && !failed_in_new.count(pairing_key(t, !o.ignore_planner))) {
+    const std::string key = pairing_key(t, !o.ignore_planner);
+    if (!t.value("success", false) && in_new.count(key) && !failed_in_new.count(key)) {
       failed.push_back({&t, false});
     }
   }
@@ -57,7 +61,6 @@ std::vector<TrialSnapshot> snapshots(const CompareJobOptions& o, const Compariso
                                 : (*a.first)["trial_id"].template get<std::string>() <
                                       (*b.first)["trial_id"].template get<std::string>();
   });
-  (void)c;
   std::vector<TrialSnapshot> out;
   left_out = 0;
   for (const auto& [t, is_new] : failed) {
@@ -156,7 +159,7 @@ CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) 
   if (!o.report_dir.empty()) {
     std::filesystem::create_directories(o.report_dir);
     int left_out = 0;
-    const std::vector<TrialSnapshot> pictures = snapshots(o, c, base, fresh, left_out);
+    const std::vector<TrialSnapshot> pictures = snapshots(o, base, fresh, left_out);
     write_file_atomically(o.report_dir / "compare.md", comparison_markdown(c));
     write_file_atomically(o.report_dir / "compare.json", comparison_json(c).dump(2) + "\n");
     r.report = o.report_dir / "report.html";
