@@ -6,6 +6,9 @@
 #   scripts/regression_check.sh [--fast] [--out DIR]   check; exit 0 passed, 1 regression,
 #                                                      2 bad input or a broken run
 #   scripts/regression_check.sh --record               run the full suite, store it as the baseline
+#   --suite FILE --baseline DIR                        your own suite and baseline (defaults:
+#                                                      scenarios/suites/regression.yaml and
+#                                                      results/baselines/regression)
 #
 # --fast runs one layout per group (24 of the 48 trials); they pair with the baseline's first.
 # Thresholds: taskmatrix compare's defaults (a significant success drop of 5 points, collision
@@ -15,11 +18,11 @@
 # 2-core CI machine's). Other thresholds: pass taskmatrix compare options after --.
 # The report (compare.md, report.html with pictures of failed trials) is in DIR/compare.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-build="${TASKMATRIX_BUILD_DIR:-build}"
-suite=scenarios/suites/regression.yaml
-baseline=results/baselines/regression
-out=results/runs/regression-check
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="$(realpath -m -- "${TASKMATRIX_BUILD_DIR:-$root/build}")"
+suite="$root/scenarios/suites/regression.yaml"
+baseline="$root/results/baselines/regression"
+out="$root/results/runs/regression-check"
 fast=0
 record=0
 extra=()
@@ -27,12 +30,15 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --fast) fast=1 ;;
     --record) record=1 ;;
-    --out) out="$2"; shift ;;
+    --out) out="$(realpath -m -- "${2:?--out needs a directory}")"; shift ;;
+    --suite) suite="$(realpath -m -- "${2:?--suite needs a file}")"; shift ;;
+    --baseline) baseline="$(realpath -m -- "${2:?--baseline needs a directory}")"; shift ;;
     --) shift; extra=("$@"); break ;;
     *) echo "regression_check.sh: unknown option '$1' (see the comment at the top)" >&2; exit 2 ;;
   esac
   shift
 done
+cd "$root"
 taskmatrix="$build/bin/taskmatrix"
 [ -x "$taskmatrix" ] || { echo "regression_check.sh: $taskmatrix: not built (run scripts/setup.sh)" >&2; exit 2; }
 jobs="${TASKMATRIX_JOBS:-2}"
