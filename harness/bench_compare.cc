@@ -523,7 +523,9 @@ int run_bench_compare(const std::filesystem::path& base, const std::filesystem::
   const BenchFile new_file = read_bench_file(now);
   const BenchComparison c = compare_bench(base_file, new_file, options);
   write_bench_comparison(base_file, new_file, c, out);
-  return fail_on_regression && c.regressed > 0 ? 1 : 0;
+  // A benchmark of the baseline missing from the new run is a failure too: compare like
+  // with like (the same filter), or a broken benchmark would pass by vanishing.
+  return fail_on_regression && (c.regressed > 0 || c.only_in_base > 0) ? 1 : 0;
 }
 
 }  // namespace taskmatrix::harness

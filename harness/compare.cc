@@ -69,8 +69,12 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
     }
     for (const char* f : kWorkFields) {
       const double wb = number(*p.base, f), wn = number(*p.fresh, f);
-      if (!std::isfinite(wb) || !std::isfinite(wn)) continue;
       WorkCountChange& w = work[f];
+      if (!std::isfinite(wb) || !std::isfinite(wn)) {
+        ++w.missing;
+        w.missing_in_successful_new += !std::isfinite(wn) && n;
+        continue;
+      }
       w.base_total += wb;
       w.new_total += wn;
       w.changed_trials += wb != wn;
@@ -114,7 +118,18 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
     if (g.time_ratio_high < 1.0 / t.max_time_ratio) g.improvements.push_back(time);
   }
   for (const WorkCountChange& w : g.work) {
-    if (w.field != "collision_checks" || w.base_total <= 0) continue;
+    if (w.missing_in_successful_new > 0) {
+      g.regressions.push_back(
+          printf_string("%.0f successful new trials lack ", w.missing_in_successful_new) + w.field);
+    }
+    if (w.field != "collision_checks") continue;
+    if (w.base_total <= 0) {
+      if (w.new_total > 0) {
+        g.regressions.push_back(printf_string("collision checks 0 -> %.0f (%.0f trials changed)",
+                                              w.new_total, w.changed_trials));
+      }
+      continue;
+    }
     const double ratio = w.new_total / w.base_total;
     const std::string work =
         printf_string("collision checks x%.2f (%.0f -> %.0f; %.0f trials changed)", ratio,
@@ -199,6 +214,15 @@ Comparison compare_trials(const std::vector<nlohmann::json>& base,
   c.overall.scenario = "all";
   measure(c.overall, all);
   judge(c.overall, thresholds);
+  if (thresholds.fail_on_unpaired && !c.only_in_new.empty()) {
+    c.overall.regressions.push_back(
+        printf_string("%.0f trials of the new run have no partner in the base",
+                      static_cast<double>(c.only_in_new.size())));
+  }
+  if (thresholds.fail_on_unpaired && !thresholds.new_is_subset && !c.only_in_base.empty()) {
+    c.overall.regressions.push_back(printf_string("%.0f trials of the base are missing",
+                                                  static_cast<double>(c.only_in_base.size())));
+  }
   if (thresholds.max_new_failures >= 0 &&
       c.overall.only_base_success > thresholds.max_new_failures) {
     c.overall.regressions.push_back(printf_string("%.0f trials now fail (at most %.0f allowed)",
@@ -237,8 +261,10 @@ nlohmann::json group_json(const PairedGroup& g) {
       {"wilcoxon_p", finite_or_null(g.wilcoxon_p)}};
   nlohmann::json work = nlohmann::json::object();
   for (const WorkCountChange& w : g.work) {
-    work[w.field] = {
-        {"base", w.base_total}, {"new", w.new_total}, {"changed_trials", w.changed_trials}};
+    work[w.field] = {{"base", w.base_total},
+                     {"new", w.new_total},
+                     {"changed_trials", w.changed_trials},
+                     {"missing", w.missing}};
   }
   j["work"] = work;
   j["regressions"] = g.regressions;
@@ -286,7 +312,9 @@ nlohmann::json comparison_json(const Comparison& c) {
                      {"max_time_ratio", c.thresholds.max_time_ratio},
                      {"max_work_ratio", c.thresholds.max_work_ratio},
                      {"min_time_pairs", c.thresholds.min_time_pairs},
-                     {"max_new_failures", c.thresholds.max_new_failures}};
+                     {"max_new_failures", c.thresholds.max_new_failures},
+                     {"fail_on_unpaired", c.thresholds.fail_on_unpaired},
+                     {"new_is_subset", c.thresholds.new_is_subset}};
   j["regression"] = c.regression();
   j["overall"] = group_json(c.overall);
   j["groups"] = nlohmann::json::array();
@@ -325,6 +353,9 @@ std::string comparison_markdown(const Comparison& c) {
   if (t.max_new_failures >= 0) {
     md += printf_string("; more than %.0f trials that now fail", t.max_new_failures);
   }
+  if (t.fail_on_unpaired) {
+    md += t.new_is_subset ? "; a new trial without a partner" : "; a trial without a partner";
+  }
   md += ".\n\n";
   md += "| | base | new | change |\n|---|---|---|---|\n";
   md += printf_string("| success | %.0f/%.0f (%.1f%%..%.1f%%) |", o.base_successes, o.pairs,
@@ -344,7 +375,8 @@ std::string comparison_markdown(const Comparison& c) {
   for (const WorkCountChange& w : o.work) {
     md += "| " + w.field + printf_string(" | %.0f | %.0f |", w.base_total, w.new_total) +
           (w.base_total > 0 ? printf_string(" x%.3f;", w.new_total / w.base_total) : "") +
-          printf_string(" %.0f trials changed |\n", w.changed_trials);
+          printf_string(" %.0f trials changed", w.changed_trials) +
+          (w.missing > 0 ? printf_string("; %.0f pairs without it", w.missing) : "") + " |\n";
   }
   const std::string overall = verdict(o);
   md += "\nOverall: " + (overall == "-" ? std::string("no significant change") : overall) +

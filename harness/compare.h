@@ -28,16 +28,23 @@ struct CompareThresholds {
   double max_success_drop = 0.05;  // success rate drop (absolute) that, if significant, fails
   double max_time_ratio = 1.25;    // planning time: the interval's lower bound above it fails
   double max_work_ratio = 1.25;    // collision checks, new/base totals: above it fails
-  int min_time_pairs = 5;          // fewer pairs that both planned: no time verdict
+  int min_time_pairs = 6;          // fewer pairs that both planned: no time verdict (with 5
+                                   // untied pairs Wilcoxon's p cannot go below 0.0625)
   // Trials repeat exactly on the same build (same seeds, same layouts), so a trial that now
   // fails is a change, not chance: more such pairs than this, over all groups, fail (< 0: off).
   int max_new_failures = -1;
+  // Unpaired trials fail: every trial of the new run needs a partner, and so does every trial
+  // of the base unless the new run is a subset of it (a fast form with fewer trials).
+  bool fail_on_unpaired = false;
+  bool new_is_subset = false;
 };
 
 struct WorkCountChange {
-  std::string field;  // collision_checks, plan_calls, planner_runs, ik_calls
-  double base_total = 0, new_total = 0;
-  int changed_trials = 0;  // pairs whose counts differ
+  std::string field;                     // collision_checks, plan_calls, planner_runs, ik_calls
+  double base_total = 0, new_total = 0;  // over pairs where both trials have the count
+  int changed_trials = 0;                // pairs whose counts differ
+  int missing = 0;  // pairs where either lacks it (null: a crash or kill), left out of totals
+  int missing_in_successful_new = 0;  // new trials that succeeded without it: a broken writer
 };
 
 struct PairedGroup {

@@ -123,6 +123,21 @@ std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir
     for (const char* key : {"seed", "layout_seed"})
       require(t, key, T::number_unsigned, file, i + 1);
   }
+  // A resumed run's file may hold trials of another matrix; summary.json names this run's.
+  std::ifstream summary_in(run_dir / "summary.json");
+  if (summary_in) {
+    const nlohmann::json summary = nlohmann::json::parse(summary_in, nullptr, false);
+    if (!summary.is_discarded() && summary.contains("trial_ids") &&
+        summary["trial_ids"].is_array()) {
+      std::set<std::string> ids;
+      for (const nlohmann::json& id : summary["trial_ids"]) {
+        if (id.is_string()) ids.insert(id.get<std::string>());
+      }
+      std::erase_if(f.trials, [&](const nlohmann::json& t) {
+        return !ids.count(t["trial_id"].get<std::string>());
+      });
+    }
+  }
   if (f.trials.empty()) throw InputError(file.string(), "", "holds no finished trial");
   return std::move(f.trials);
 }
@@ -147,7 +162,12 @@ CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) 
     for (const nlohmann::json& t : fresh) np.insert(t["planner"].get<std::string>());
     std::string hint;
     if (bp != np && !o.ignore_planner) {
-      hint = " (the runs' planners differ: " + *bp.begin() + " and " + *np.begin() +
+      auto list = [](const std::set<std::string>& s) {
+        std::string joined;
+        for (const std::string& p : s) joined += (joined.empty() ? "" : ", ") + p;
+        return joined;
+      };
+      hint = " (the base's planners are " + list(bp) + ", the new run's " + list(np) +
              "; --ignore-planner pairs them anyway)";
     }
     throw InputError(o.new_dir.string(), "trial_id",

@@ -38,6 +38,8 @@ struct CompareJobResult {
 CompareJobResult run_compare_job(const CompareJobOptions& options, std::ostream& out);
 
 // A run directory's trials, checked: every line has the fields pairing and the tests need.
+// When summary.json lists the run's trial ids, trials of another matrix (left in trials.jsonl
+// by a --resume with other --trials, --planners or --seed) are left out.
 std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir);
 
 }  // namespace taskmatrix::harness

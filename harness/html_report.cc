@@ -265,7 +265,7 @@ std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>&
     h += "</table>";
   }
   h += "<h2>Failed trials</h2>";
-  if (snapshots.empty()) h += "<p>No trial failed.</p>";
+  if (snapshots.empty() && snapshots_left_out == 0) h += "<p>No trial failed.</p>";
   h += "<div class='cards'>";
   for (const TrialSnapshot& s : snapshots) {
     h += "<div class='card'>";
@@ -350,9 +350,12 @@ std::string planners_html(const std::string& run_name, const std::vector<nlohman
       row.points.push_back({0, ref.pairs ? static_cast<double>(ref.base_successes) / ref.pairs : 0,
                             ref.base_ci.low, ref.base_ci.high});
       for (size_t k = 0; k < vs_reference.size(); ++k) {
+        const int series_index = static_cast<int>(
+            std::find(planners.begin(), planners.end(), vs_reference[k].new_label) -
+            planners.begin());
         for (const PairedGroup& g : vs_reference[k].groups) {
           if (group_label(g) != row.label) continue;
-          row.points.push_back({static_cast<int>(k + 1),
+          row.points.push_back({series_index,
                                 g.pairs ? static_cast<double>(g.new_successes) / g.pairs : 0,
                                 g.new_ci.low, g.new_ci.high});
         }
@@ -364,8 +367,11 @@ std::string planners_html(const std::string& run_name, const std::vector<nlohman
     h += "<h2>Planning time, trial by trial</h2><figure><figcaption>Each point is one trial: "
          "the reference planner's time (x) against another planner's (y).</figcaption>";
     std::vector<ScatterPoint> points;
-    std::vector<SeriesName> others(series.begin() + 1, series.end());
+    std::vector<SeriesName> others;  // in the order of vs_reference, coloured as in `series`
     for (size_t k = 0; k < vs_reference.size(); ++k) {
+      const auto at = std::find(planners.begin(), planners.end(), vs_reference[k].new_label);
+      others.push_back(
+          {vs_reference[k].new_label, series_colour(static_cast<int>(at - planners.begin()))});
       for (const PairedGroup& g : vs_reference[k].groups) {
         for (size_t i = 0; i < g.base_planning_s.size(); ++i) {
           points.push_back(

@@ -256,37 +256,56 @@ int main(int argc, char** argv) {
                       "trials) into this directory");
   compare->add_flag("--fail-on-regression", compare_fail,
                     "exit 1 when a change is a significant regression beyond the thresholds");
+  compare->add_flag("--fail-on-unpaired", compare_options.thresholds.fail_on_unpaired,
+                    "a trial without a partner is a regression (both ways, unless --subset)");
+  compare->add_flag("--subset", compare_options.thresholds.new_is_subset,
+                    "the new run holds only some of the base's trials (a fast form): base "
+                    "trials without a partner are expected");
   compare->add_flag("--ignore-planner", compare_options.ignore_planner,
                     "pair trials whatever their planner label (one planner against another)");
-  compare->add_option("--alpha", compare_options.thresholds.alpha,
-                      "significance level of McNemar's and Wilcoxon's tests")
+  compare
+      ->add_option("--alpha", compare_options.thresholds.alpha,
+                   "significance level of McNemar's and Wilcoxon's tests")
       ->check(CLI::Range(1e-9, 0.5))
-      ->capture_default_str();
-  compare->add_option("--max-success-drop", compare_options.thresholds.max_success_drop,
-                      "success-rate drop (0..1) that fails when significant")
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  compare
+      ->add_option("--max-success-drop", compare_options.thresholds.max_success_drop,
+                   "success-rate drop (0..1) that fails when significant")
       ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  compare->add_option("--max-time-ratio", compare_options.thresholds.max_time_ratio,
-                      "planning-time ratio new/base that fails when its 95% interval lies above")
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  compare
+      ->add_option("--max-time-ratio", compare_options.thresholds.max_time_ratio,
+                   "planning-time ratio new/base that fails when its 95% interval lies above")
       ->check(CLI::Range(1.0, 1e6))
-      ->capture_default_str();
-  compare->add_option("--max-work-ratio", compare_options.thresholds.max_work_ratio,
-                      "ratio of total collision checks new/base above which a group fails")
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  compare
+      ->add_option("--max-work-ratio", compare_options.thresholds.max_work_ratio,
+                   "ratio of total collision checks new/base above which a group fails")
       ->check(CLI::Range(1.0, 1e6))
-      ->capture_default_str();
-  compare->add_option("--min-time-pairs", compare_options.thresholds.min_time_pairs,
-                      "fewest pairs that both planned for a planning-time verdict")
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  compare
+      ->add_option("--min-time-pairs", compare_options.thresholds.min_time_pairs,
+                   "fewest pairs that both planned for a planning-time verdict")
       ->check(CLI::Range(2, 1000000))
-      ->capture_default_str();
-  compare->add_option("--max-new-failures", compare_options.thresholds.max_new_failures,
-                      "trials that succeeded in the base and now fail, beyond which the run "
-                      "fails whatever the test says (-1: off)")
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  compare
+      ->add_option("--max-new-failures", compare_options.thresholds.max_new_failures,
+                   "trials that succeeded in the base and now fail, beyond which the run "
+                   "fails whatever the test says (-1: off)")
       ->check(CLI::Range(-1, 100000000))
-      ->capture_default_str();
-  compare->add_option("--max-snapshots", compare_options.max_snapshots,
-                      "failed trials pictured in report.html")
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  compare
+      ->add_option("--max-snapshots", compare_options.max_snapshots,
+                   "failed trials pictured in report.html")
       ->check(CLI::Range(0, 10000))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 
   try {
     app.parse(argc, argv);

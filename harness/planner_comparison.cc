@@ -43,6 +43,7 @@ std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& tria
     const std::vector<nlohmann::json> other = of_planner(trials, planners[i]);
     if (other.empty()) continue;
     Comparison c = compare_trials(reference, other, /*with_planner=*/false, CompareThresholds{});
+    if (c.overall.pairs == 0) continue;  // another scenario's planner: nothing in common
     c.base_label = planners[0];
     c.new_label = planners[i];
     out.push_back(std::move(c));

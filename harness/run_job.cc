@@ -329,6 +329,10 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   if (write_dir) {
     RunInfo info{plan.name, plan.doc, result.planned, result.interrupted, wall, options.jobs};
     nlohmann::json summary = make_summary(info, finished);
+    // What `compare` pairs: trials.jsonl may also hold another matrix's trials (--resume).
+    nlohmann::json ids = nlohmann::json::array();
+    for (const nlohmann::json& t : finished) ids.push_back(t.value("trial_id", std::string()));
+    summary["trial_ids"] = std::move(ids);
     // Several planners: each against the first, on the same trials.
     std::vector<std::string> planners;
     for (const Scenario& s : plan.scenarios) {

@@ -8,12 +8,14 @@
 #
 #   --record              write the run to results/baselines/bench.json instead of comparing
 #   --include-runner      also run BM_RunSuite (the scenario runner, about 60 s more)
-#   --out FILE            where the new run's JSON goes (default results/bench/latest.json)
+#   --out FILE            where the new run's JSON goes (default results/bench/latest.json;
+#                         relative to where you are, like every path you give)
 #   --fail-on-regression, --time-tolerance F   passed to bench-compare
 #
 # Environment: TASKMATRIX_BUILD_DIR (default build), TASKMATRIX_JOBS (build jobs, default 2),
 # TASKMATRIX_BENCH_MIN_TIME (seconds per benchmark and repetition, default 0.5).
 set -euo pipefail
+caller=$(pwd)
 cd "$(dirname "$0")/.."
 
 build=${TASKMATRIX_BUILD_DIR:-build}
@@ -27,7 +29,8 @@ while (($#)); do
     --record) record=1 ;;
     --include-runner) filter=. ;;
     --out)
-      out=${2:?--out needs a file}
+      [ $# -ge 2 ] && [ -n "$2" ] || { echo "bench.sh: --out needs a file" >&2; exit 2; }
+      out=$(cd "$caller" && realpath -m -- "$2")
       shift
       ;;
     --fail-on-regression) compare_args+=(--fail-on-regression) ;;

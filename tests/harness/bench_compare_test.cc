@@ -245,7 +245,13 @@ TEST_F(BenchCompareTest, TimesAreComparedInTheirUnits) {
 TEST_F(BenchCompareTest, MissingBenchmarksAreReportedOnEitherSide) {
   std::vector<Bench> now = {kBase[0], kBase[1]};
   now.push_back({"BM_Trial/reach", 300, "ms", {}, std::nullopt});
-  const test::CommandResult r = compare(kBase, now);
+  // A baseline benchmark missing from the new run fails the gate; one only in the new run
+  // does not.
+  EXPECT_EQ(compare(kBase, now).exit_code, 1);
+  std::vector<Bench> more = kBase;
+  more.push_back({"BM_Trial/reach", 300, "ms", {}, std::nullopt});
+  EXPECT_EQ(compare(kBase, more).exit_code, 0);
+  const test::CommandResult r = compare(kBase, now, "");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(row(r.out, "BM_IK_Raw").find("| 10 ms | - |  | only in base |"), std::string::npos)
       << r.out;

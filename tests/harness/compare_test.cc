@@ -217,6 +217,47 @@ TEST(CompareTrials, PairsByIdentityAndListsTheRest) {
   EXPECT_THROW(compare_trials(base, fresh, true, {}), std::invalid_argument);
 }
 
+TEST(CompareTrials, UnpairedTrialsFailOnlyWhenAsked) {
+  const auto base = run_of(4, [](int i) { return trial("reach", "tallbot", i, true, 0.01, 100); });
+  const auto half = run_of(2, [](int i) { return trial("reach", "tallbot", i, true, 0.01, 100); });
+  EXPECT_FALSE(compare_trials(base, half, true, {}).regression());
+  CompareThresholds t;
+  t.fail_on_unpaired = true;
+  const Comparison c = compare_trials(base, half, true, t);
+  EXPECT_TRUE(c.regression());
+  EXPECT_EQ(c.overall.regressions.at(0), "2 trials of the base are missing");
+  t.new_is_subset = true;  // the fast form: fewer trials, all with partners
+  EXPECT_FALSE(compare_trials(base, half, true, t).regression());
+  auto extra = half;
+  extra.push_back(trial("reach", "tallbot", 9, true, 0.01, 100));
+  const Comparison d = compare_trials(base, extra, true, t);
+  EXPECT_TRUE(d.regression());
+  EXPECT_EQ(d.overall.regressions.at(0), "1 trials of the new run have no partner in the base");
+}
+
+TEST(CompareTrials, ChecksFromNothingAndMissingCountsAreRegressions) {
+  // A group that did not plan now does.
+  const auto none = run_of(3, [](int i) { return trial("postural", "tallbot", i, true, 0, 0); });
+  const auto some =
+      run_of(3, [](int i) { return trial("postural", "tallbot", i, true, 0.01, 500); });
+  const Comparison c = compare_trials(none, some, true, {});
+  EXPECT_TRUE(c.regression());
+  EXPECT_EQ(c.overall.regressions.at(0), "collision checks 0 -> 1500 (3 trials changed)");
+  // A successful new trial without its counts is a broken writer, not a pass.
+  auto blank = run_of(3, [](int i) { return trial("reach", "tallbot", i, true, 0.01, 500); });
+  const auto full = blank;
+  blank[1]["collision_checks"] = nullptr;
+  const Comparison d = compare_trials(full, blank, true, {});
+  EXPECT_TRUE(d.regression());
+  EXPECT_EQ(d.overall.work.at(0).missing, 1);
+  EXPECT_EQ(d.overall.regressions.at(0), "1 successful new trials lack collision_checks");
+  // A crashed trial's null counts are not that: its failure is judged as a failure.
+  blank[1]["success"] = false;
+  const Comparison e = compare_trials(full, blank, true, {});
+  EXPECT_FALSE(e.regression());  // one flip of three: not significant
+  EXPECT_EQ(e.overall.work.at(0).missing, 1);
+}
+
 // ---- `taskmatrix compare` on run directories.
 class CompareCli : public ::testing::Test {
  protected:
@@ -270,6 +311,20 @@ TEST_F(CompareCli, ExitStatusFollowsTheVerdictOnlyWhenAsked) {
   EXPECT_EQ(gate.exit_code, 1) << gate.err;
   EXPECT_NE(gate.out.find("**Verdict: regression.**"), std::string::npos) << gate.out;
   EXPECT_NE(gate.out.find("9 now fail"), std::string::npos) << gate.out;
+  // The last value of a threshold wins, so scripts' defaults can be overridden.
+  EXPECT_EQ(compare("'" + base.string() + "' '" + worse.string() +
+                    "' --fail-on-regression --max-success-drop 0.05 --max-success-drop 0.5")
+                .exit_code,
+            0);
+  // Without pictures the failures are still counted.
+  const auto bare = dir_ / "bare";
+  EXPECT_EQ(compare("'" + base.string() + "' '" + worse.string() +
+                    "' --max-snapshots 0 --report '" + bare.string() + "'")
+                .exit_code,
+            0);
+  const std::string bare_html = slurp(bare / "report.html");
+  EXPECT_EQ(bare_html.find("No trial failed"), std::string::npos);
+  EXPECT_NE(bare_html.find("9 more failed trials not pictured"), std::string::npos);
   // The thresholds are the user's: a 50-point drop is tolerated.
   EXPECT_EQ(compare("'" + base.string() + "' '" + worse.string() +
                     "' --fail-on-regression --max-success-drop 0.5")
@@ -293,6 +348,25 @@ TEST_F(CompareCli, ExitStatusFollowsTheVerdictOnlyWhenAsked) {
   EXPECT_EQ(html.find("href="), std::string::npos);
   // These trials have no recordings: the failed ones are listed with the reason.
   EXPECT_NE(html.find("no picture:"), std::string::npos);
+}
+
+TEST_F(CompareCli, OnlyTheRunsOwnTrialsArePairedAfterAResume) {
+  // trials.jsonl holds a trial of another matrix (left by --resume with other --trials);
+  // summary.json names the run's own.
+  const auto base = write_run(
+      "base", run_of(2, [](int i) { return trial("reach", "tallbot", i, true, 0.01, 1); }));
+  auto lines = run_of(3, [](int i) { return trial("reach", "tallbot", i, i < 3, 0.01, 1); });
+  const auto fresh = write_run("fresh", lines);
+  EXPECT_EQ(compare("'" + base.string() + "' '" + fresh.string() +
+                    "' --fail-on-regression --fail-on-unpaired")
+                .exit_code,
+            1);
+  std::ofstream(fresh / "summary.json")
+      << nlohmann::json{{"trial_ids", {lines[0]["trial_id"], lines[1]["trial_id"]}}}.dump();
+  const test::CommandResult r = compare("'" + base.string() + "' '" + fresh.string() +
+                                        "' --fail-on-regression --fail-on-unpaired");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("2 trials paired."), std::string::npos) << r.out;
 }
 
 TEST_F(CompareCli, BadInputIsOneClearLine) {
