@@ -445,8 +445,13 @@ TEST_F(CompareRuns, ARunAgainstItsRepeatIsNoRegressionAndFailuresArePictured) {
   std::ostringstream o, e;
   run_job(test::catalog(), registry_, options, o, e);
   // Two run directories holding the same far trial (a copy), so a failure is in both.
+  const nlohmann::json far = nlohmann::json::parse(slurp(dir_ / "far" / "trials.jsonl"));
   for (const auto& d : {a.dir, b.dir}) {
     std::ofstream(d / "trials.jsonl", std::ios::app) << slurp(dir_ / "far" / "trials.jsonl");
+    nlohmann::json summary = nlohmann::json::parse(slurp(d / "summary.json"));
+    ASSERT_EQ(summary["trial_ids"].size(), 4u);  // the run's own, for compare
+    summary["trial_ids"].push_back(far["trial_id"]);
+    std::ofstream(d / "summary.json") << summary.dump();
     std::filesystem::copy(
         dir_ / "far" / "trajectories", d / "trajectories",
         std::filesystem::copy_options::update_existing | std::filesystem::copy_options::recursive);
