@@ -33,17 +33,6 @@ std::string printf_string(const char* format, double a, double b = 0, double c =
   return buf;
 }
 
-std::string p_value(double p) {
-  if (!std::isfinite(p)) return "-";
-  return p < 0.001 ? std::string("<0.001") : printf_string("%.3f", p);
-}
-
-// "= 0.012" or "< 0.001", after "p ".
-std::string p_phrase(double p) {
-  if (!std::isfinite(p)) return "= -";
-  return p < 0.001 ? std::string("< 0.001") : "= " + printf_string("%.3f", p);
-}
-
 struct Pair {
   const nlohmann::json* base;
   const nlohmann::json* fresh;
@@ -101,8 +90,8 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
   const std::string success =
       printf_string("success %.0f%% -> %.0f%% (%.0f pairs: %.0f now fail", 100 * base_rate,
                     100 * new_rate, g.pairs, g.only_base_success) +
-      printf_string(", %.0f now succeed; McNemar p ", g.only_new_success) + p_phrase(g.mcnemar_p) +
-      ")";
+      printf_string(", %.0f now succeed; McNemar p ", g.only_new_success) +
+      p_value_phrase(g.mcnemar_p) + ")";
   constexpr double kEps = 1e-12;
   if (g.mcnemar_p < t.alpha && base_rate - new_rate >= t.max_success_drop - kEps) {
     g.regressions.push_back(success);
@@ -113,7 +102,7 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
     const std::string time =
         printf_string("planning time x%.2f (95%% CI %.2f..%.2f, %.0f pairs; Wilcoxon p ",
                       g.time_ratio, g.time_ratio_low, g.time_ratio_high, g.time_pairs) +
-        p_phrase(g.wilcoxon_p) + ")";
+        p_value_phrase(g.wilcoxon_p) + ")";
     if (g.time_ratio_low > t.max_time_ratio) g.regressions.push_back(time);
     if (g.time_ratio_high < 1.0 / t.max_time_ratio) g.improvements.push_back(time);
   }
@@ -140,6 +129,23 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
 }
 
 }  // namespace
+
+std::string format_number(const char* format, double v) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string p_value_text(double p) {
+  if (!std::isfinite(p)) return "-";
+  return p < 0.001 ? std::string("<0.001") : format_number("%.3f", p);
+}
+
+std::string p_value_phrase(double p) {
+  if (!std::isfinite(p)) return "= -";
+  return p < 0.001 ? std::string("< 0.001") : "= " + format_number("%.3f", p);
+}
 
 bool Comparison::regression() const {
   if (!overall.regressions.empty()) return true;
@@ -364,13 +370,13 @@ std::string comparison_markdown(const Comparison& c) {
                       100 * o.new_ci.high) +
         printf_string(" %.0f now fail, %.0f now succeed; McNemar p ", o.only_base_success,
                       o.only_new_success) +
-        p_phrase(o.mcnemar_p) + " |\n";
+        p_value_phrase(o.mcnemar_p) + " |\n";
   if (o.time_pairs > 0) {
     md += printf_string("| planning time (median s) | %.4f | %.4f |",
                         quantile(o.base_planning_s, 0.5), quantile(o.new_planning_s, 0.5)) +
           printf_string(" x%.3f (95%% CI %.3f..%.3f, %.0f pairs); Wilcoxon p ", o.time_ratio,
                         o.time_ratio_low, o.time_ratio_high, o.time_pairs) +
-          p_phrase(o.wilcoxon_p) + " |\n";
+          p_value_phrase(o.wilcoxon_p) + " |\n";
   }
   for (const WorkCountChange& w : o.work) {
     md += "| " + w.field + printf_string(" | %.0f | %.0f |", w.base_total, w.new_total) +
@@ -389,8 +395,8 @@ std::string comparison_markdown(const Comparison& c) {
     const std::string planner =
         g.base_planner == g.new_planner ? g.base_planner : g.base_planner + " -> " + g.new_planner;
     md += "| " + g.scenario + " | " + g.robot + " | " + g.environment + " | " + planner + " | " +
-          success_cell(g) + " | " + p_value(g.mcnemar_p) + " | " + time_cell(g) + " | " +
-          p_value(g.wilcoxon_p) + " | " + work_cell(g, "collision_checks") + " | " +
+          success_cell(g) + " | " + p_value_text(g.mcnemar_p) + " | " + time_cell(g) + " | " +
+          p_value_text(g.wilcoxon_p) + " | " + work_cell(g, "collision_checks") + " | " +
           work_cell(g, "plan_calls") + " | " + verdict(g) + " |\n";
   }
   if (!c.flips.empty()) {

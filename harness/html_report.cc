@@ -36,22 +36,9 @@ th{background:#f2f2f2}tr.bad td{background:#fde8e8}tr.good td{background:#e8f6e8
 figure{margin:10px 0}figcaption{font-size:13px;color:#555;margin-bottom:4px}
 </style>)";
 
-std::string fmt(const char* format, double v) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
-std::string p_text(double p) {
-  if (!std::isfinite(p)) return "-";
-  return p < 0.001 ? "&lt;0.001" : fmt("%.3f", p);
-}
-
-std::string p_phrase(double p) {
-  if (!std::isfinite(p)) return "= -";
-  return p < 0.001 ? std::string("&lt; 0.001") : "= " + fmt("%.3f", p);
-}
+std::string fmt(const char* format, double v) { return format_number(format, v); }
+std::string p_text(double p) { return html_escape(p_value_text(p)); }
+std::string p_phrase(double p) { return html_escape(p_value_phrase(p)); }
 
 std::string td(const std::string& s) { return "<td>" + s + "</td>"; }
 

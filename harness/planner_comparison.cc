@@ -19,18 +19,6 @@ std::vector<nlohmann::json> of_planner(const std::vector<nlohmann::json>& trials
   return out;
 }
 
-std::string fmt(const char* format, double v) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
-std::string p_text(double p) {
-  if (!std::isfinite(p)) return "-";
-  return p < 0.001 ? "<0.001" : fmt("%.3f", p);
-}
-
 }  // namespace
 
 std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& trials,
@@ -76,8 +64,9 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
     const int n = static_cast<int>(mine.size());
     const Interval ci = wilson_interval(s, n);
     md += "| " + planner + " | " + std::to_string(s) + "/" + std::to_string(n) + " | " +
-          fmt("%.0f%%", 100 * ci.low) + ".." + fmt("%.0f%%", 100 * ci.high) + " | " +
-          fmt("%.4f", quantile(times, 0.5)) + " | " + fmt("%.2f", quantile(path, 0.5)) + " | ";
+          format_number("%.0f%%", 100 * ci.low) + ".." + format_number("%.0f%%", 100 * ci.high) +
+          " | " + format_number("%.4f", quantile(times, 0.5)) + " | " +
+          format_number("%.2f", quantile(path, 0.5)) + " | ";
     const Comparison* c = nullptr;
     for (const Comparison& v : vs_reference) {
       if (v.new_label == planner) c = &v;
@@ -96,13 +85,13 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
     for (const std::string& r : o.improvements) {
       verdict += (verdict.empty() ? "better: " : "; better: ") + r;
     }
-    md +=
-        p_text(o.mcnemar_p) + " | " +
-        (o.time_pairs > 0 ? "x" + fmt("%.2f", o.time_ratio) + " (" + fmt("%.2f", o.time_ratio_low) +
-                                ".." + fmt("%.2f", o.time_ratio_high) + ")"
-                          : "-") +
-        " | " + p_text(o.wilcoxon_p) + " | " + fmt("x%.2f", checks) + " | " +
-        (verdict.empty() ? "no significant difference" : verdict) + " |\n";
+    md += p_value_text(o.mcnemar_p) + " | " +
+          (o.time_pairs > 0 ? "x" + format_number("%.2f", o.time_ratio) + " (" +
+                                  format_number("%.2f", o.time_ratio_low) + ".." +
+                                  format_number("%.2f", o.time_ratio_high) + ")"
+                            : "-") +
+          " | " + p_value_text(o.wilcoxon_p) + " | " + format_number("x%.2f", checks) + " | " +
+          (verdict.empty() ? "no significant difference" : verdict) + " |\n";
   }
   md += "\nPer group: planners.md; plots: planners.html.\n";
   return md;
