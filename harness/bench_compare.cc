@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/summary.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
@@ -164,17 +165,7 @@ std::string format_time(double ns) {
   return buf;
 }
 
-std::string format_number(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
-std::string format_ratio(double r) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", r);
-  return buf;
-}
+std::string format_ratio(double r) { return format_number("%.3g", r); }
 
 std::string percent(double fraction) {
   char buf[32];
@@ -485,7 +476,7 @@ void write_bench_comparison(const BenchFile& base, const BenchFile& now, const B
     const bool time = row.counter.empty();
     auto value = [&](const std::optional<double>& v) {
       if (!v) return std::string("-");
-      return time ? format_time(*v) : format_number(*v);
+      return time ? format_time(*v) : format_number("%.10g", *v);
     };
     std::string ratio;
     if (row.base && row.now && *row.base > 0) ratio = format_ratio(*row.now / *row.base);

@@ -130,13 +130,6 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
 
 }  // namespace
 
-std::string format_number(const char* format, double v) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 std::string p_value_text(double p) {
   if (!std::isfinite(p)) return "-";
   return p < 0.001 ? std::string("<0.001") : format_number("%.3f", p);

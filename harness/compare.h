@@ -92,9 +92,8 @@ Comparison compare_trials(const std::vector<nlohmann::json>& base,
 
 nlohmann::json comparison_json(const Comparison& c);
 
-// Text for reports: `format` applied to v, "-" when v is not finite; a p-value as "0.012" or
-// "<0.001"; and as a phrase after "p ": "= 0.012" or "< 0.001".
-std::string format_number(const char* format, double v);
+// A p-value for reports as "0.012" or "<0.001"; and as a phrase after "p ": "= 0.012" or
+// "< 0.001".
 std::string p_value_text(double p);
 std::string p_value_phrase(double p);
 std::string comparison_markdown(const Comparison& c);

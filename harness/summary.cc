@@ -28,6 +28,13 @@ double quantile(std::vector<double> values, double q) {
   return values[lo] + (h - static_cast<double>(lo)) * (values[hi] - values[lo]);
 }
 
+std::string format_number(const char* format, double v) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
 namespace {
 
 nlohmann::json number_or_null(double v) {
@@ -71,10 +78,7 @@ nlohmann::json group_stats(const std::vector<const nlohmann::json*>& trials) {
 }
 
 std::string fmt(const nlohmann::json& v, const char* format) {
-  if (!v.is_number()) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v.get<double>());
-  return buf;
+  return v.is_number() ? format_number(format, v.get<double>()) : "-";
 }
 
 }  // namespace

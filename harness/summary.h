@@ -21,6 +21,8 @@ struct Interval {
 Interval wilson_interval(int successes, int n, double z = 1.959963984540054);
 // Linear interpolation between closest ranks (R's type 7); NaN for no values.
 double quantile(std::vector<double> values, double q);
+// `format` (printf, one double) applied to v for reports; "-" when v is not finite.
+std::string format_number(const char* format, double v);
 
 struct RunInfo {
   std::string name;

@@ -43,11 +43,7 @@ std::string series_colour(int i) {
 
 namespace {
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
+std::string num(double v) { return format_number("%.1f", v); }
 
 std::string tick_label(double v) {
   char buf[32];
