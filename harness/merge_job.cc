@@ -84,6 +84,37 @@ void require_same(const ShardDir& first, const ShardDir& other, const std::strin
   }
 }
 
+// The shard's entry in the merged provenance: where and when it ran. Throws core::InputError
+// naming its provenance.json when a field has the wrong type.
+nlohmann::json shard_record(const ShardDir& s, int trials_merged) {
+  const nlohmann::json& p = s.provenance;
+  try {
+    const std::string end = p.value("finished_at", std::string());
+    const nlohmann::json trials = p.value("trials", nlohmann::json::object());
+    const nlohmann::json host = p.value("host", nlohmann::json::object());
+    nlohmann::json entry = {
+        {"dir", fs::absolute(s.dir).lexically_normal().string()},
+        {"index", s.shard.index},
+        {"count", s.shard.count},
+        {"from", s.shard.from},
+        {"host", host.value("name", std::string("unknown"))},
+        {"cpu", host.value("cpu", std::string("unknown"))},
+        {"cores", host.value("cores", nlohmann::json(nullptr))},
+        {"started_at", p.value("started_at", std::string())},
+        {"finished_at", end.empty() ? nlohmann::json(nullptr) : nlohmann::json(end)},
+        {"wall_s", p.value("wall_s", nlohmann::json(nullptr))},
+        {"jobs", p.value("jobs", 1)},
+        // Killed (no end) or interrupted: its missing trials were never run.
+        {"interrupted", end.empty() || trials.value("interrupted", false)},
+        {"trials_merged", trials_merged},
+        {"other_lines", s.other_lines}};
+    if (p.contains("slurm")) entry["slurm"] = p["slurm"];
+    return entry;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(provenance_file(s.dir), "", std::string("unreadable: ") + e.what());
+  }
+}
+
 std::time_t parse_utc(const std::string& iso) {
   std::tm tm{};
   if (strptime(iso.c_str(), "%Y-%m-%dT%H:%M:%SZ", &tm) == nullptr) return -1;
@@ -231,11 +262,31 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
     err << "; merging the rest (--allow-partial)\n";
   }
 
+  // The sharded run's span and the shards' own records (read before anything is written).
+  std::vector<int> from_shard(shards.size(), 0);
+  for (size_t i = 0; i < matrix.size(); ++i) {
+    if (!found[i].empty()) ++from_shard[found[i].front().first];
+  }
+  std::string started, finished;
+  int jobs = 0;
+  bool unfinished_shard = false;
+  nlohmann::json shard_list = nlohmann::json::array();
+  for (size_t k = 0; k < shards.size(); ++k) {
+    nlohmann::json entry = shard_record(shards[k], from_shard[k]);
+    const std::string s_start = entry["started_at"], s_end = entry.value("finished_at", "");
+    if (!s_start.empty() && (started.empty() || s_start < started)) started = s_start;
+    if (s_end > finished) finished = s_end;
+    jobs += entry["jobs"].get<int>();
+    unfinished_shard = unfinished_shard || entry["interrupted"].get<bool>();
+    shard_list.push_back(std::move(entry));
+  }
+  const std::time_t t0 = parse_utc(started), t1 = parse_utc(finished);
+  const double span_s = t0 >= 0 && t1 >= t0 ? static_cast<double>(t1 - t0) : 0.0;
+
   // 4. Write OUT as a run writes its directory.
   result.dir = options.out;
   prepare_run_directory(result.dir, /*keep_results=*/false);
   std::vector<nlohmann::json> merged;
-  std::vector<int> from_shard(shards.size(), 0);
   std::map<Transfer, int> transfers;
   std::string lines;
   for (size_t i = 0; i < matrix.size(); ++i) {
@@ -247,48 +298,10 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
     }
     lines += t->dump() + "\n";
     result.successes += t->value("success", false) ? 1 : 0;
-    ++from_shard[k];
     merged.push_back(*t);
   }
   write_file_atomically(result.dir / "trials.jsonl", lines);
   result.merged = static_cast<int>(merged.size());
-
-  // The sharded run's span and the shards' own records.
-  std::string started, finished;
-  int jobs = 0;
-  bool unfinished_shard = false;
-  nlohmann::json shard_list = nlohmann::json::array();
-  for (size_t k = 0; k < shards.size(); ++k) {
-    const nlohmann::json& p = shards[k].provenance;
-    const std::string s_start = p.value("started_at", std::string());
-    const std::string s_end = p.value("finished_at", std::string());
-    const nlohmann::json trials = p.value("trials", nlohmann::json::object());
-    const bool interrupted = s_end.empty() || trials.value("interrupted", false);
-    unfinished_shard = unfinished_shard || interrupted;
-    if (!s_start.empty() && (started.empty() || s_start < started)) started = s_start;
-    if (!s_end.empty() && s_end > finished) finished = s_end;
-    jobs += p.value("jobs", 1);
-    const nlohmann::json host = p.value("host", nlohmann::json::object());
-    nlohmann::json entry = {
-        {"dir", fs::absolute(shards[k].dir).lexically_normal().string()},
-        {"index", shards[k].shard.index},
-        {"count", shards[k].shard.count},
-        {"from", shards[k].shard.from},
-        {"host", host.value("name", std::string("unknown"))},
-        {"cpu", host.value("cpu", std::string("unknown"))},
-        {"cores", host.value("cores", nlohmann::json(nullptr))},
-        {"started_at", s_start},
-        {"finished_at", s_end.empty() ? nlohmann::json(nullptr) : nlohmann::json(s_end)},
-        {"wall_s", p.value("wall_s", nlohmann::json(nullptr))},
-        {"jobs", p.value("jobs", 1)},
-        {"interrupted", interrupted},
-        {"trials_merged", from_shard[k]},
-        {"other_lines", shards[k].other_lines}};
-    if (p.contains("slurm")) entry["slurm"] = p["slurm"];
-    shard_list.push_back(std::move(entry));
-  }
-  const std::time_t t0 = parse_utc(started), t1 = parse_utc(finished);
-  const double span_s = t0 >= 0 && t1 >= t0 ? static_cast<double>(t1 - t0) : 0.0;
 
   nlohmann::json provenance = make_provenance(plan, catalog.root(), options.command_line, jobs);
   for (const char* key : kShardBuildKeys) {
