@@ -192,7 +192,7 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
   for (size_t i = 0; i < matrix.size(); ++i) index_of[matrix[i].id] = i;
 
   // 3. Each shard's trials of its own stride.
-  std::vector<std::vector<std::pair<size_t, const nlohmann::json*>>> found(matrix.size());
+  std::vector<std::vector<std::pair<size_t, nlohmann::json*>>> found(matrix.size());
   for (size_t k = 0; k < shards.size(); ++k) {
     ShardDir& s = shards[k];
     const fs::path file = s.dir / "trials.jsonl";
@@ -224,7 +224,7 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
     }
   }
   for (size_t k = 0; k < shards.size(); ++k) {
-    for (const nlohmann::json& t : shards[k].trials) {
+    for (nlohmann::json& t : shards[k].trials) {
       found[index_of.at(t["trial_id"].get<std::string>())].push_back({k, &t});
     }
   }
@@ -298,7 +298,7 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
     }
     lines += t->dump() + "\n";
     result.successes += t->value("success", false) ? 1 : 0;
-    merged.push_back(*t);
+    merged.push_back(std::move(*t));
   }
   write_file_atomically(result.dir / "trials.jsonl", lines);
   result.merged = static_cast<int>(merged.size());
