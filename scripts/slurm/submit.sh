@@ -45,7 +45,7 @@ while [ $# -gt 0 ]; do
     *) [ -z "$suite" ] || usage; suite=$1; shift ;;
   esac
 done
-[ -n "$suite" ] && [ -n "$shards" ] || usage
+if [ -z "$suite" ] || [ -z "$shards" ]; then usage; fi
 [[ "$shards" =~ ^[1-9][0-9]{0,5}$ ]] || die "--shards: expected a number from 1, not '$shards'" 2
 [[ "$jobs" =~ ^[1-9][0-9]{0,2}$ ]] || die "--jobs: expected a number from 1, not '$jobs'" 2
 for option in "${run_options[@]}"; do

@@ -11,7 +11,8 @@
 # Usage: tests/slurm/cluster_test.sh [TASKMATRIX_BINARY]
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
-export TASKMATRIX_BIN=$(realpath "${1:-$repo/build/bin/taskmatrix}")
+TASKMATRIX_BIN=$(realpath "${1:-$repo/build/bin/taskmatrix}")
+export TASKMATRIX_BIN
 # A Slurm array task running this test must not shard the local run.
 unset SLURM_ARRAY_TASK_ID SLURM_ARRAY_TASK_COUNT SLURM_ARRAY_TASK_MIN SLURM_ARRAY_TASK_MAX \
   SLURM_ARRAY_TASK_STEP SLURM_ARRAY_JOB_ID
