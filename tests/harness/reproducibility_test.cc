@@ -2,9 +2,9 @@
 // twice through the CLI, the second time with two busy loops competing for the cores, give
 // the same outcomes, statuses, failure reasons, planned paths (bit for bit), work counts
 // (collision checks, planner iterations, IK calls, control periods) and executed trajectories,
-// and no clock bound decides any of them. The trials: reach with RRTConnect (a planner whose
-// paths are simplified) and with PRM (an anytime planner, under the iteration budget), pickup,
-// putdown and vacuum, on every robot of the catalog in the kitchen.
+// and no clock bound decides any of them. The trials: pickup, putdown and vacuum on every robot
+// of the catalog in the kitchen (RRTConnect, whose paths are simplified), and a reach with PRM
+// (its roadmap grown under the iteration budget). In its own test program: it takes minutes.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -88,10 +88,9 @@ TEST(Reproducibility, TrialsRepeatBitForBitWithTwoBusyLoopsCompetingForTheCores)
          "planner_budget: iterations\nplan_iterations: 3000\nlayout_seed: 3\ntime_limit_s: 30\n"
          "success: graspable(cup)\n";
   std::ofstream(dir / "suite.yaml")
-      << "suite: repro\nscenarios: [" << (programs / "reach.yaml").string() << ", "
-      << (programs / "pickup.yaml").string() << ", " << (programs / "putdown.yaml").string() << ", "
-      << (programs / "vacuum.yaml").string() << ", reach_prm.yaml]\nrobots: " << robots_list()
-      << "\nenvironments: [kitchen]\ntrials: 1\n";
+      << "suite: repro\nscenarios: [" << (programs / "pickup.yaml").string() << ", "
+      << (programs / "putdown.yaml").string() << ", " << (programs / "vacuum.yaml").string()
+      << ", reach_prm.yaml]\nrobots: " << robots_list() << "\nenvironments: [kitchen]\ntrials: 1\n";
   const std::string run =
       "run " + (dir / "suite.yaml").string() + " --jobs 2 --progress off --out ";
   ASSERT_EQ(run_cli(run + (dir / "quiet").string(), dir / "quiet.err"), 0)
@@ -105,7 +104,7 @@ TEST(Reproducibility, TrialsRepeatBitForBitWithTwoBusyLoopsCompetingForTheCores)
 
   const auto a = trials_of(dir / "quiet"), b = trials_of(dir / "busy");
   ASSERT_EQ(a.size(), b.size());
-  ASSERT_EQ(a.size(), 4 * test::catalog().robots().size() + 1);
+  ASSERT_EQ(a.size(), 3 * test::catalog().robots().size() + 1);
   int successes = 0, plans = 0;
   for (const auto& [id, ta] : a) {
     ASSERT_TRUE(b.count(id)) << id;
