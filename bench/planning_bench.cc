@@ -118,7 +118,7 @@ void BM_PlanReach_Skillset(benchmark::State& state) {
   mujoco::PlanOptions options;
   options.time_limit_s = kTimeLimit;
   options.motion_resolution = kResolution;
-  options.simplify_time_s = 0;
+  options.simplify_rounds = 0;
   options.clearance_m = static_cast<double>(state.range(0)) * 1e-3;  // 0: the raw problem
   size_t k = 0;
   double checks = 0, exact = 0;

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/json_input.h"
 #include "harness/summary.h"
 #include "taskmatrix/core/input_error.h"
 
@@ -110,6 +111,7 @@ class Reader {
     if (scale == 0) fail(r.key + ".time_unit", "unknown time unit '" + unit + "' (ns, us, ms, s)");
     const double t = number_field(r, "real_time");
     if (t < 0) fail(r.key + ".real_time", "must not be negative");
+    if (!std::isfinite(t * scale)) fail(r.key + ".real_time", "is too large to be a time");
     return t * scale;
   }
 
@@ -260,16 +262,7 @@ BenchFile read_bench_file(const std::filesystem::path& path) {
     throw core::InputError(file, "", "cannot read the file (missing or not a regular file)");
   }
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  json doc;
-  try {
-    doc = json::parse(quote_non_finite(text));
-  } catch (const json::parse_error& e) {
-    std::string what = e.what();
-    const size_t bracket = what.find("] ");
-    if (what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
-      what = what.substr(bracket + 2);
-    throw core::InputError(file, "", "not JSON: " + what);
-  }
+  const json doc = parse_json_text(quote_non_finite(text), file);
   const Reader reader(path);
   if (!doc.is_object()) reader.fail("", "not a Google Benchmark JSON file (not an object)");
   const auto benchmarks = doc.find("benchmarks");

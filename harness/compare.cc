@@ -7,7 +7,9 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "harness/json_input.h"
 #include "harness/paired_stats.h"
+#include "harness/trial_record.h"
 
 namespace taskmatrix::harness {
 
@@ -18,7 +20,7 @@ const char* const kWorkFields[] = {"collision_checks", "plan_calls", "planner_ru
 std::string text(const nlohmann::json& t, const char* key) {
   const auto it = t.find(key);
   if (it == t.end() || it->is_null()) return "";
-  return it->is_string() ? it->get<std::string>() : it->dump();
+  return it->is_string() ? it->get<std::string>() : json_text(*it);
 }
 
 // A finite number, or NaN for null, missing or not a number.
@@ -38,6 +40,19 @@ struct Pair {
   const nlohmann::json* fresh;
 };
 
+// The digests of a trial's planned paths, in order; "" when its record has none.
+std::string path_digests(const nlohmann::json& t) {
+  const auto plans = t.find("plans");
+  if (plans == t.end() || !plans->is_array()) return "";
+  std::string all;
+  for (const nlohmann::json& p : *plans) {
+    const auto d = p.find("path_digest");
+    if (d == p.end() || !d->is_string()) return "";
+    all += d->get<std::string>() + ";";
+  }
+  return all.empty() ? "-" : all;
+}
+
 void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
   g.pairs = static_cast<int>(pairs.size());
   std::vector<double> log_ratios;
@@ -55,6 +70,11 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
       g.base_planning_s.push_back(tb);
       g.new_planning_s.push_back(tn);
       g.time_pair_ids.push_back(text(*p.fresh, "trial_id"));
+    }
+    const std::string db = path_digests(*p.base), dn = path_digests(*p.fresh);
+    if (!db.empty() && !dn.empty()) {
+      ++g.path_pairs;
+      g.changed_paths += db != dn;
     }
     for (const char* f : kWorkFields) {
       const double wb = number(*p.base, f), wn = number(*p.fresh, f);
@@ -105,6 +125,19 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
         p_value_phrase(g.wilcoxon_p) + ")";
     if (g.time_ratio_low > t.max_time_ratio) g.regressions.push_back(time);
     if (g.time_ratio_high < 1.0 / t.max_time_ratio) g.improvements.push_back(time);
+  }
+  if (t.exact_work) {
+    for (const WorkCountChange& w : g.work) {
+      if (w.changed_trials > 0) {
+        g.regressions.push_back(
+            printf_string("%.0f trials changed ", w.changed_trials) + w.field +
+            printf_string(" (%.0f -> %.0f; exact counts required)", w.base_total, w.new_total));
+      }
+    }
+    if (g.changed_paths > 0) {
+      g.regressions.push_back(printf_string("%.0f trials planned other paths", g.changed_paths) +
+                              " (exact paths required)");
+    }
   }
   for (const WorkCountChange& w : g.work) {
     if (w.missing_in_successful_new > 0) {
@@ -184,6 +217,17 @@ Comparison compare_trials(const std::vector<nlohmann::json>& base,
       continue;
     }
     const nlohmann::json* n = it->second;
+    std::string clock;
+    for (const auto& [side, trial] : {std::pair{"base", b}, std::pair{"new", n}}) {
+      for (const std::string& what : clock_bounds_hit(*trial)) {
+        clock += (clock.empty() ? "" : ", ") + std::string(side) + " " + what;
+      }
+    }
+    if (!clock.empty()) {
+      const std::string bid = text(*b, "trial_id"), nid = text(*n, "trial_id");
+      c.nonreproducible.push_back((bid == nid ? bid : bid + " / " + nid) + ": " + clock);
+      if (!thresholds.include_nonreproducible) continue;
+    }
     const Pair pair{b, n};
     all.push_back(pair);
     groups[{text(*b, "scenario"), text(*b, "program"), text(*b, "robot"), text(*b, "environment"),
@@ -221,6 +265,11 @@ Comparison compare_trials(const std::vector<nlohmann::json>& base,
   if (thresholds.fail_on_unpaired && !thresholds.new_is_subset && !c.only_in_base.empty()) {
     c.overall.regressions.push_back(printf_string("%.0f trials of the base are missing",
                                                   static_cast<double>(c.only_in_base.size())));
+  }
+  if (thresholds.fail_on_nonreproducible && !c.nonreproducible.empty()) {
+    c.overall.regressions.push_back(
+        printf_string("%.0f pairs are not reproducible: a clock bound decided a trial",
+                      static_cast<double>(c.nonreproducible.size())));
   }
   if (thresholds.max_new_failures >= 0 &&
       c.overall.only_base_success > thresholds.max_new_failures) {
@@ -266,6 +315,7 @@ nlohmann::json group_json(const PairedGroup& g) {
                      {"missing", w.missing}};
   }
   j["work"] = work;
+  j["paths"] = {{"pairs", g.path_pairs}, {"changed_trials", g.changed_paths}};
   j["regressions"] = g.regressions;
   j["improvements"] = g.improvements;
   return j;
@@ -313,13 +363,17 @@ nlohmann::json comparison_json(const Comparison& c) {
                      {"min_time_pairs", c.thresholds.min_time_pairs},
                      {"max_new_failures", c.thresholds.max_new_failures},
                      {"fail_on_unpaired", c.thresholds.fail_on_unpaired},
-                     {"new_is_subset", c.thresholds.new_is_subset}};
+                     {"new_is_subset", c.thresholds.new_is_subset},
+                     {"include_nonreproducible", c.thresholds.include_nonreproducible},
+                     {"fail_on_nonreproducible", c.thresholds.fail_on_nonreproducible},
+                     {"exact_work", c.thresholds.exact_work}};
   j["regression"] = c.regression();
   j["overall"] = group_json(c.overall);
   j["groups"] = nlohmann::json::array();
   for (const PairedGroup& g : c.groups) j["groups"].push_back(group_json(g));
   j["only_in_base"] = c.only_in_base;
   j["only_in_new"] = c.only_in_new;
+  j["nonreproducible"] = c.nonreproducible;
   j["flips"] = nlohmann::json::array();
   for (const Comparison::Flip& f : c.flips) {
     j["flips"].push_back({{"base_id", f.base_id},
@@ -334,7 +388,8 @@ nlohmann::json comparison_json(const Comparison& c) {
 std::string comparison_markdown(const Comparison& c) {
   const PairedGroup& o = c.overall;
   const CompareThresholds& t = c.thresholds;
-  std::string md = "# Compare " + c.base_label + " -> " + c.new_label + "\n\n";
+  std::string md =
+      "# Compare " + markdown_cell(c.base_label) + " -> " + markdown_cell(c.new_label) + "\n\n";
   md += printf_string("%.0f trials paired", o.pairs);
   if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
     md += printf_string(" (%.0f only in the base, %.0f only in the new run, left out)",
@@ -342,6 +397,12 @@ std::string comparison_markdown(const Comparison& c) {
                         static_cast<double>(c.only_in_new.size()));
   }
   md += ".\n\n";
+  if (!c.nonreproducible.empty()) {
+    md += printf_string("%.0f pairs are not reproducible (a clock bound decided a trial) and ",
+                        static_cast<double>(c.nonreproducible.size())) +
+          (c.thresholds.include_nonreproducible ? "are judged anyway" : "are left out") +
+          "; see \"Pairs a clock bound decided\".\n\n";
+  }
   md += c.regression() ? "**Verdict: regression.**\n\n" : "**Verdict: no regression.**\n\n";
   md += printf_string(
       "Thresholds: a success drop of at least %.0f points with McNemar p < %.2f; a planning "
@@ -355,6 +416,8 @@ std::string comparison_markdown(const Comparison& c) {
   if (t.fail_on_unpaired) {
     md += t.new_is_subset ? "; a new trial without a partner" : "; a trial without a partner";
   }
+  if (t.fail_on_nonreproducible) md += "; a pair that a clock bound decided";
+  if (t.exact_work) md += "; any change of a work count or planned path";
   md += ".\n\n";
   md += "| | base | new | change |\n|---|---|---|---|\n";
   md += printf_string("| success | %.0f/%.0f (%.1f%%..%.1f%%) |", o.base_successes, o.pairs,
@@ -387,8 +450,9 @@ std::string comparison_markdown(const Comparison& c) {
   for (const PairedGroup& g : c.groups) {
     const std::string planner =
         g.base_planner == g.new_planner ? g.base_planner : g.base_planner + " -> " + g.new_planner;
-    md += "| " + g.scenario + " | " + g.robot + " | " + g.environment + " | " + planner + " | " +
-          success_cell(g) + " | " + p_value_text(g.mcnemar_p) + " | " + time_cell(g) + " | " +
+    md += "| " + markdown_cell(g.scenario) + " | " + markdown_cell(g.robot) + " | " +
+          markdown_cell(g.environment) + " | " + markdown_cell(planner) + " | " + success_cell(g) +
+          " | " + p_value_text(g.mcnemar_p) + " | " + time_cell(g) + " | " +
           p_value_text(g.wilcoxon_p) + " | " + work_cell(g, "collision_checks") + " | " +
           work_cell(g, "plan_calls") + " | " + verdict(g) + " |\n";
   }
@@ -396,13 +460,22 @@ std::string comparison_markdown(const Comparison& c) {
     md += "\n## Trials whose outcome changed\n\n| trial | base | new |\n|---|---|---|\n";
     for (const Comparison::Flip& f : c.flips) {
       const std::string id = f.base_id == f.new_id ? f.base_id : f.base_id + " / " + f.new_id;
-      md += "| " + id + " | " + f.base_status + " | " + f.new_status + " |\n";
+      md += "| " + markdown_cell(id) + " | " + markdown_cell(f.base_status) + " | " +
+            markdown_cell(f.new_status) + " |\n";
     }
+  }
+  if (!c.nonreproducible.empty()) {
+    md += "\n## Pairs a clock bound decided\n\n";
+    for (const std::string& p : c.nonreproducible) md += "- " + markdown_cell(p) + "\n";
   }
   if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
     md += "\n## Unpaired trials\n\n";
-    for (const std::string& id : c.only_in_base) md += "- only in the base: " + id + "\n";
-    for (const std::string& id : c.only_in_new) md += "- only in the new run: " + id + "\n";
+    for (const std::string& id : c.only_in_base) {
+      md += "- only in the base: " + markdown_cell(id) + "\n";
+    }
+    for (const std::string& id : c.only_in_new) {
+      md += "- only in the new run: " + markdown_cell(id) + "\n";
+    }
   }
   return md;
 }

@@ -37,6 +37,14 @@ struct CompareThresholds {
   // of the base unless the new run is a subset of it (a fast form with fewer trials).
   bool fail_on_unpaired = false;
   bool new_is_subset = false;
+  // Pairs where a clock bound decided either trial (trial_record.h, clock_bounds_hit) are not
+  // reproducible: they are listed and left out of every test unless include_nonreproducible;
+  // with fail_on_nonreproducible any such pair is a regression.
+  bool include_nonreproducible = false;
+  bool fail_on_nonreproducible = false;
+  // Work counts and planned paths must repeat exactly (same build, same seeds: they do, under
+  // any load): a pair whose counts or path digests differ is a regression.
+  bool exact_work = false;
 };
 
 struct WorkCountChange {
@@ -62,6 +70,8 @@ struct PairedGroup {
   std::vector<double> base_planning_s, new_planning_s;  // paired, for plots
   std::vector<std::string> time_pair_ids;               // the new trial of each such pair
   std::vector<WorkCountChange> work;
+  // Pairs whose plans' path digests were both recorded, and of those the ones that differ.
+  int path_pairs = 0, changed_paths = 0;
   // Verdicts against the thresholds, e.g. "success 100% -> 67% (McNemar p = 0.031)".
   std::vector<std::string> regressions, improvements;
 };
@@ -78,6 +88,8 @@ struct Comparison {
     bool now_succeeds = false;
   };
   std::vector<Flip> flips;
+  // Pairs left out because a clock bound decided a trial: "base id / new id: what".
+  std::vector<std::string> nonreproducible;
   bool regression() const;
 };
 

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <set>
 #include <stdexcept>
 
 #include "harness/html_report.h"
+#include "harness/json_input.h"
 #include "harness/trial_record.h"
 #include "taskmatrix/core/input_error.h"
 
@@ -16,23 +18,13 @@ namespace {
 
 using core::InputError;
 
-void require(const nlohmann::json& t, const char* key, nlohmann::json::value_t type,
-             const std::filesystem::path& file, size_t line) {
-  const auto it = t.find(key);
-  const bool ok =
-      it != t.end() &&
-      (type == nlohmann::json::value_t::number_unsigned ? it->is_number() : it->type() == type);
-  if (!ok) {
-    throw InputError(file.string(), "line " + std::to_string(line) + ": " + key,
-                     it == t.end() ? "missing" : "has the wrong type");
-  }
-}
-
 nlohmann::json read_provenance(const std::filesystem::path& dir) {
-  std::ifstream in(dir / "provenance.json");
-  if (!in) return nullptr;
-  nlohmann::json p = nlohmann::json::parse(in, nullptr, false);
-  return p.is_discarded() ? nlohmann::json(nullptr) : p;
+  const std::filesystem::path file = dir / "provenance.json";
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return nullptr;
+  nlohmann::json p = read_json_file(file);
+  if (!p.is_object()) throw InputError(file.string(), "", "must be a JSON object");
+  return p;
 }
 
 std::vector<TrialSnapshot> snapshots(const CompareJobOptions& o,
@@ -96,42 +88,38 @@ std::string console_text(const Comparison& c) {
     for (const std::string& r : g.regressions) text += "REGRESSION " + name + ": " + r + "\n";
     for (const std::string& r : g.improvements) text += "better     " + name + ": " + r + "\n";
   }
+  for (const std::string& p : c.nonreproducible) text += "not reproducible " + p + "\n";
   return text;
 }
 
 }  // namespace
 
-std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir) {
-  if (!std::filesystem::is_directory(run_dir)) {
+std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir,
+                                            std::vector<std::string>* warnings) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(run_dir, ec)) {
     throw InputError(run_dir.string(), "", "no such run directory");
   }
   const std::filesystem::path file = run_dir / "trials.jsonl";
-  if (!std::filesystem::exists(file)) {
+  if (!std::filesystem::exists(file, ec)) {
     throw InputError(file.string(), "", "missing: not a run directory of taskmatrix run");
   }
   TrialsFile f = read_trials_file(file);
-  using T = nlohmann::json::value_t;
-  for (size_t i = 0; i < f.trials.size(); ++i) {
-    const nlohmann::json& t = f.trials[i];
-    if (!t.is_object())
-      throw InputError(file.string(), "line " + std::to_string(i + 1), "not an object");
-    for (const char* key :
-         {"trial_id", "scenario", "program", "robot", "environment", "planner", "status"}) {
-      require(t, key, T::string, file, i + 1);
-    }
-    require(t, "success", T::boolean, file, i + 1);
-    for (const char* key : {"seed", "layout_seed"})
-      require(t, key, T::number_unsigned, file, i + 1);
-  }
+  if (warnings && !f.duplicates.empty()) warnings->push_back(describe_duplicates(file, f));
   // A resumed run's file may hold trials of another matrix; summary.json names this run's.
-  std::ifstream summary_in(run_dir / "summary.json");
-  if (summary_in) {
-    const nlohmann::json summary = nlohmann::json::parse(summary_in, nullptr, false);
-    if (!summary.is_discarded() && summary.contains("trial_ids") &&
-        summary["trial_ids"].is_array()) {
+  const std::filesystem::path summary_file = run_dir / "summary.json";
+  if (std::filesystem::exists(summary_file, ec)) {
+    const nlohmann::json summary = read_json_file(summary_file);
+    const JsonPlace where{summary_file.string(), 0, ""};
+    const nlohmann::json& listed =
+        json_optional_field(summary, "trial_ids", JsonKind::kArray, where);
+    if (listed.is_array()) {
       std::set<std::string> ids;
-      for (const nlohmann::json& id : summary["trial_ids"]) {
-        if (id.is_string()) ids.insert(id.get<std::string>());
+      for (size_t i = 0; i < listed.size(); ++i) {
+        if (!listed[i].is_string()) {
+          where.at("trial_ids[" + std::to_string(i) + "]").fail("must be a string");
+        }
+        ids.insert(listed[i].get<std::string>());
       }
       std::erase_if(f.trials, [&](const nlohmann::json& t) {
         return !ids.count(t["trial_id"].get<std::string>());
@@ -143,8 +131,12 @@ std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir
 }
 
 CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) {
-  const std::vector<nlohmann::json> base = read_run_trials(o.base_dir);
-  const std::vector<nlohmann::json> fresh = read_run_trials(o.new_dir);
+  std::vector<std::string> warnings;
+  const std::vector<nlohmann::json> base = read_run_trials(o.base_dir, &warnings);
+  const std::vector<nlohmann::json> fresh = read_run_trials(o.new_dir, &warnings);
+  const nlohmann::json base_provenance = read_provenance(o.base_dir);
+  const nlohmann::json new_provenance = read_provenance(o.new_dir);
+  for (const std::string& w : warnings) std::cerr << "taskmatrix: warning: " << w << "\n";
   CompareJobResult r;
   try {
     r.comparison = compare_trials(base, fresh, !o.ignore_planner, o.thresholds);
@@ -156,7 +148,7 @@ CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) 
   Comparison& c = r.comparison;
   c.base_label = o.base_dir.string();
   c.new_label = o.new_dir.string();
-  if (c.overall.pairs == 0) {
+  if (c.overall.pairs == 0 && c.nonreproducible.empty()) {
     std::set<std::string> bp, np;
     for (const nlohmann::json& t : base) bp.insert(t["planner"].get<std::string>());
     for (const nlohmann::json& t : fresh) np.insert(t["planner"].get<std::string>());
@@ -180,11 +172,13 @@ CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) 
     std::filesystem::create_directories(o.report_dir);
     int left_out = 0;
     const std::vector<TrialSnapshot> pictures = snapshots(o, base, fresh, left_out);
-    write_file_atomically(o.report_dir / "compare.md", comparison_markdown(c));
-    write_file_atomically(o.report_dir / "compare.json", comparison_json(c).dump(2) + "\n");
     r.report = o.report_dir / "report.html";
-    write_file_atomically(r.report, compare_html(c, base, fresh, read_provenance(o.base_dir),
-                                                 read_provenance(o.new_dir), pictures, left_out));
+    // The three files of a report are replaced together: never a mix of two comparisons.
+    write_files_atomically(
+        {{o.report_dir / "compare.md", comparison_markdown(c)},
+         {o.report_dir / "compare.json", json_text(comparison_json(c), 2) + "\n"},
+         {r.report,
+          compare_html(c, base, fresh, base_provenance, new_provenance, pictures, left_out)}});
     out << "report: " << r.report.string() << " (" << pictures.size()
         << " failed trials pictured)\n";
   }

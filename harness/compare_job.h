@@ -39,7 +39,9 @@ CompareJobResult run_compare_job(const CompareJobOptions& options, std::ostream&
 
 // A run directory's trials, checked: every line has the fields pairing and the tests need.
 // When summary.json lists the run's trial ids, trials of another matrix (left in trials.jsonl
-// by a --resume with other --trials, --planners or --seed) are left out.
-std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir);
+// by a --resume with other --trials, --planners or --seed) are left out, and so are repeated
+// lines of one trial (described in `warnings`). Throws core::InputError naming file, line, key.
+std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir,
+                                            std::vector<std::string>* warnings = nullptr);
 
 }  // namespace taskmatrix::harness

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "harness/json_input.h"
 #include "harness/svg_plot.h"
 
 namespace taskmatrix::harness {
@@ -149,7 +150,7 @@ std::string provenance_line(const nlohmann::json& p) {
   auto add = [&](const std::string& label, const nlohmann::json* v) {
     if (v == nullptr || v->is_null()) return;
     s += (s.empty() ? "" : "; ") + label + " " +
-         html_escape(v->is_string() ? v->get<std::string>() : v->dump());
+         html_escape(valid_utf8(v->is_string() ? v->get<std::string>() : json_text(*v)));
   };
   auto field = [&](const char* key) { return p.contains(key) ? &p[key] : nullptr; };
   add("commit", field("git_commit"));

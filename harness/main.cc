@@ -44,6 +44,25 @@ struct RenderOptions {
   bool depth = false;
 };
 
+// CLI::Range lets NaN through (every comparison with it is false): numbers must be finite and
+// within [lo, hi].
+CLI::Validator finite_range(double lo, double hi) {
+  auto number = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  const std::string range = "[" + number(lo) + ", " + number(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(v)) return "must be a finite number";
+        return v < lo || v > hi ? "must be in " + range : "";
+      },
+      "NUMBER in " + range);
+}
+
 int run_render_trial(const ModelCatalog& catalog, const RenderOptions& o) {
   namespace mj = taskmatrix::mujoco;
   namespace h = taskmatrix::harness;
@@ -141,8 +160,10 @@ int main(int argc, char** argv) {
   render->add_option("--env", render_options.environment, "environment name");
   render->add_option("--trial", render_options.trial,
                      "RUN_DIR:TRIAL_ID: render a recorded trial's frame instead (no re-planning)");
-  render->add_option("--time", render_options.time,
-                     "simulated time of the trial's frame in seconds (default: its last frame)");
+  render
+      ->add_option("--time", render_options.time,
+                   "simulated time of the trial's frame in seconds (default: its last frame)")
+      ->check(finite_range(0.0, 1e9));
   render->add_option("--seed", render_options.seed, "obstacle layout seed")
       ->check(CLI::Validator(
           [](std::string& v) {
@@ -175,11 +196,11 @@ int main(int argc, char** argv) {
           ->excludes(render->get_option("--time"))
           ->excludes(render->get_option("--depth"));
   render->add_option("--fps", render_options.fps, "video frames per second")
-      ->check(CLI::Range(1.0, 240.0))
+      ->check(finite_range(1.0, 240.0))
       ->capture_default_str()
       ->needs(video);
   render->add_option("--speed", render_options.speed, "simulated seconds per video second")
-      ->check(CLI::Range(0.01, 100.0))
+      ->check(finite_range(0.01, 100.0))
       ->capture_default_str()
       ->needs(video);
 
@@ -231,7 +252,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run->add_option("--record-hz", run_options.record_rate_hz,
                   "trajectory frames kept per simulated second (0: none)")
-      ->check(CLI::Range(0.0, 1000.0))
+      ->check(finite_range(0.0, 1000.0))
       ->capture_default_str();
 
   taskmatrix::harness::MergeJobOptions merge_options;
@@ -259,7 +280,7 @@ int main(int argc, char** argv) {
   bench_compare
       ->add_option("--time-tolerance", bench_options.time_tolerance,
                    "relative slow-down allowed before a time is a regression (at least 3 cv)")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(finite_range(0.0, 100.0))
       ->capture_default_str();
   bench_compare->add_flag("--fail-on-regression", bench_fail, "exit 1 when anything regressed");
 
@@ -282,30 +303,36 @@ int main(int argc, char** argv) {
   compare->add_flag("--subset", compare_options.thresholds.new_is_subset,
                     "the new run holds only some of the base's trials (a fast form): base "
                     "trials without a partner are expected");
+  compare->add_flag("--fail-on-nonreproducible", compare_options.thresholds.fail_on_nonreproducible,
+                    "a pair where a clock bound decided a trial is a regression");
+  compare->add_flag("--include-nonreproducible", compare_options.thresholds.include_nonreproducible,
+                    "judge pairs where a clock bound decided a trial too (left out by default)");
+  compare->add_flag("--exact-work", compare_options.thresholds.exact_work,
+                    "any change of a trial's work counts or planned paths is a regression");
   compare->add_flag("--ignore-planner", compare_options.ignore_planner,
                     "pair trials whatever their planner label (one planner against another)");
   compare
       ->add_option("--alpha", compare_options.thresholds.alpha,
                    "significance level of McNemar's and Wilcoxon's tests")
-      ->check(CLI::Range(1e-9, 0.5))
+      ->check(finite_range(1e-9, 0.5))
       ->capture_default_str()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   compare
       ->add_option("--max-success-drop", compare_options.thresholds.max_success_drop,
                    "success-rate drop (0..1) that fails when significant")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(finite_range(0.0, 1.0))
       ->capture_default_str()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   compare
       ->add_option("--max-time-ratio", compare_options.thresholds.max_time_ratio,
                    "planning-time ratio new/base that fails when its 95% interval lies above")
-      ->check(CLI::Range(1.0, 1e6))
+      ->check(finite_range(1.0, 1e6))
       ->capture_default_str()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   compare
       ->add_option("--max-work-ratio", compare_options.thresholds.max_work_ratio,
                    "ratio of total collision checks new/base above which a group fails")
-      ->check(CLI::Range(1.0, 1e6))
+      ->check(finite_range(1.0, 1e6))
       ->capture_default_str()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   compare

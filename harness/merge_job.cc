@@ -10,7 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/json_input.h"
 #include "harness/provenance.h"
+#include "harness/run_directory.h"
 #include "harness/run_job.h"
 #include "harness/summary.h"
 #include "harness/trial_matrix.h"
@@ -285,7 +287,9 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
 
   // 4. Write OUT as a run writes its directory.
   result.dir = options.out;
-  prepare_run_directory(result.dir, /*keep_results=*/false);
+  const RunDirectoryLock lock(result.dir, options.command_line, "OUT");
+  lock.remove_previous_results();
+  std::filesystem::create_directories(result.dir / "trajectories");
   std::vector<nlohmann::json> merged;
   std::map<Transfer, int> transfers;
   std::string lines;
@@ -296,7 +300,7 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
       const std::string rel = (*t)["trajectory"].get<std::string>();
       ++transfers[transfer(shards[k].dir / rel, result.dir / rel, options.move_trajectories)];
     }
-    lines += t->dump() + "\n";
+    lines += json_text(*t) + "\n";
     result.successes += t->value("success", false) ? 1 : 0;
     merged.push_back(std::move(*t));
   }

@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/utf8.h"
 
 namespace taskmatrix::harness {
 namespace {
@@ -23,7 +24,12 @@ std::vector<std::string> entries_with(const std::filesystem::path& dir, const ch
 std::filesystem::path lookup(const std::vector<std::string>& known,
                              const std::filesystem::path& dir, const std::string& kind,
                              const std::string& name) {
-  if (std::find(known.begin(), known.end(), name) != known.end()) return dir / name;
+  if (std::find(known.begin(), known.end(), name) != known.end()) {
+    if (const std::string bad = unsafe_name_reason(kind, name); !bad.empty()) {
+      throw core::InputError((dir / name).string(), "", bad + "; rename the directory");
+    }
+    return dir / name;
+  }
   std::string list;
   for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
   throw core::InputError(dir.string(), "",
@@ -31,6 +37,24 @@ std::filesystem::path lookup(const std::vector<std::string>& known,
 }
 
 }  // namespace
+
+bool is_safe_name(const std::string& name) {
+  return !name.empty() && name.size() <= kMaxNameLength &&
+         std::all_of(name.begin(), name.end(), [](char c) {
+           return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+                  c == '_' || c == '-';
+         });
+}
+
+std::string unsafe_name_reason(const std::string& what, const std::string& name) {
+  if (is_safe_name(name)) return "";
+  std::string shown = core::valid_utf8(name.substr(0, 80));
+  for (char& c : shown) {
+    if (static_cast<unsigned char>(c) < 0x20) c = '?';
+  }
+  return what + " name '" + shown + (name.size() > 80 ? "...'" : "'") +
+         " must be 1 to 64 of A-Z a-z 0-9 _ - (it becomes part of trial ids and file names)";
+}
 
 ModelCatalog::ModelCatalog(std::filesystem::path root) : root_(std::move(root)) {}
 

@@ -3,11 +3,19 @@
 // binary was built from.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace taskmatrix::harness {
+
+// Names that become parts of trial ids, file and directory names (robots, environments,
+// scenarios, suites, planner labels): 1 to 64 of A-Z a-z 0-9 _ -.
+inline constexpr std::size_t kMaxNameLength = 64;
+bool is_safe_name(const std::string& name);
+// "" if `name` is safe, else what is wrong (for an error naming the file and key).
+std::string unsafe_name_reason(const std::string& what, const std::string& name);
 
 class ModelCatalog {
  public:
@@ -17,7 +25,8 @@ class ModelCatalog {
   const std::filesystem::path& root() const { return root_; }
   std::vector<std::string> robots() const;        // sorted names
   std::vector<std::string> environments() const;  // sorted names
-  // Throw core::InputError listing the known names when `name` is unknown.
+  // Throw core::InputError listing the known names when `name` is unknown, and naming the
+  // directory when its name is not safe (is_safe_name).
   std::filesystem::path robot_dir(const std::string& name) const;
   std::filesystem::path environment_dir(const std::string& name) const;
 

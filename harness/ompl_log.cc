@@ -6,14 +6,19 @@
 #include <map>
 
 #include "harness/provenance.h"
+#include "harness/summary.h"
 
 namespace taskmatrix::harness {
 
 namespace {
 
-std::string one_token(std::string s) {
+// A name as one token of the log: UTF-8 (Python reads the log as text), no spaces, control
+// characters or the log's separators.
+std::string one_token(const std::string& text) {
+  std::string s = valid_utf8(text);
   for (char& c : s) {
-    if (c == ' ' || c == '\t' || c == '\n' || c == ';' || c == '|') c = '_';
+    const auto u = static_cast<unsigned char>(c);
+    if (u <= 0x20 || u == 0x7f || c == ';' || c == '|') c = '_';
   }
   return s.empty() ? "unnamed" : s;
 }
@@ -32,8 +37,18 @@ std::string integer(const nlohmann::json& v) {
   return std::to_string(static_cast<long long>(v.get<double>()));
 }
 
-// Multi-line values may not contain the closing marker.
-std::string block(std::string text) {
+// Multi-line values may not contain the closing marker, a carriage return (Python's readline
+// ends a line there) or text that is not UTF-8.
+std::string block(const std::string& raw) {
+  std::string text;
+  const std::string utf8 = valid_utf8(raw);
+  for (size_t i = 0; i < utf8.size(); ++i) {
+    if (utf8[i] != '\r') {
+      text += utf8[i];
+    } else if (i + 1 >= utf8.size() || utf8[i + 1] != '\n') {
+      text += '\n';
+    }
+  }
   std::string out;
   size_t pos = 0;
   while (pos < text.size()) {
@@ -109,7 +124,7 @@ std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> t
   out += "OMPL version " + ompl_version() + "\n";
   out += "Experiment " + one_token(info.experiment) + "\n";
   out += "Running on " + one_token(info.hostname) + "\n";
-  out += "Starting at " + info.date + "\n";
+  out += "Starting at " + one_token(info.date) + "\n";
   out += "<<<|\n" + block(info.setup) + "|>>>\n";
   out += "<<<|\n" + block(info.cpuinfo) + "|>>>\n";
   out += std::to_string(info.seed) + " is the random seed\n";

@@ -43,7 +43,7 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
                                    const std::vector<std::string>& planners,
                                    const std::vector<Comparison>& vs_reference) {
   if (vs_reference.empty()) return "";
-  std::string md = "\n## Planners, each against " + planners[0] +
+  std::string md = "\n## Planners, each against " + markdown_cell(planners[0]) +
                    " on the same trials\n\n"
                    "| planner | success | 95% CI | planning s (median) | joint path (median) | "
                    "McNemar p | planning time ratio (95% CI) | Wilcoxon p | collision checks "
@@ -63,9 +63,10 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
     }
     const int n = static_cast<int>(mine.size());
     const Interval ci = wilson_interval(s, n);
-    md += "| " + planner + " | " + std::to_string(s) + "/" + std::to_string(n) + " | " +
-          format_number("%.0f%%", 100 * ci.low) + ".." + format_number("%.0f%%", 100 * ci.high) +
-          " | " + format_number("%.4f", quantile(times, 0.5)) + " | " +
+    md += "| " + markdown_cell(planner) + " | " + std::to_string(s) + "/" + std::to_string(n) +
+          " | " + format_number("%.0f%%", 100 * ci.low) + ".." +
+          format_number("%.0f%%", 100 * ci.high) + " | " +
+          format_number("%.4f", quantile(times, 0.5)) + " | " +
           format_number("%.2f", quantile(path, 0.5)) + " | ";
     const Comparison* c = nullptr;
     for (const Comparison& v : vs_reference) {
@@ -101,11 +102,12 @@ void write_planner_comparison(const std::filesystem::path& dir, const std::strin
                               const std::vector<nlohmann::json>& trials,
                               const std::vector<std::string>& planners,
                               const std::vector<Comparison>& vs_reference) {
-  std::string md = "# Planners of run " + run_name + "\n" +
+  std::string md = "# Planners of run " + markdown_cell(run_name) + "\n" +
                    planner_table_markdown(trials, planners, vs_reference);
   for (const Comparison& c : vs_reference) {
     std::string section = comparison_markdown(c);
-    section.replace(0, section.find('\n'), "## " + c.new_label + " against " + c.base_label);
+    section.replace(0, section.find('\n'),
+                    "## " + markdown_cell(c.new_label) + " against " + markdown_cell(c.base_label));
     // Demote the comparison's own headings by one level.
     for (size_t at = section.find("\n## "); at != std::string::npos;
          at = section.find("\n## ", at + 5)) {
@@ -113,9 +115,9 @@ void write_planner_comparison(const std::filesystem::path& dir, const std::strin
     }
     md += "\n" + section;
   }
-  write_file_atomically(dir / "planners.md", md);
-  write_file_atomically(dir / "planners.html",
-                        planners_html(run_name, trials, planners, vs_reference));
+  write_files_atomically(
+      {{dir / "planners.md", md},
+       {dir / "planners.html", planners_html(run_name, trials, planners, vs_reference)}});
 }
 
 }  // namespace taskmatrix::harness

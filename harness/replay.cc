@@ -16,7 +16,8 @@ std::filesystem::path trajectory_of(const std::string& run_dir_and_trial) {
   const std::filesystem::path dir = run_dir_and_trial.substr(0, colon);
   const std::string id = run_dir_and_trial.substr(colon + 1);
   const std::filesystem::path trials = dir / "trials.jsonl";
-  if (!std::filesystem::exists(trials)) {
+  std::error_code ec;
+  if (!std::filesystem::exists(trials, ec)) {
     throw core::InputError(trials.string(), "", "no such file: not a run directory");
   }
   for (const nlohmann::json& t : read_trials_file(trials).trials) {

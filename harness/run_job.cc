@@ -11,9 +11,11 @@
 #include <ostream>
 #include <set>
 
+#include "harness/json_input.h"
 #include "harness/ompl_log.h"
 #include "harness/planner_comparison.h"
 #include "harness/provenance.h"
+#include "harness/run_directory.h"
 #include "harness/summary.h"
 #include "harness/trajectory_file.h"
 #include "harness/trial.h"
@@ -31,6 +33,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using SceneMap =
     std::map<std::pair<std::string, std::string>, std::shared_ptr<const mujoco::Scene>>;
+
+constexpr size_t kMaxTrialIdLength = 200;
 
 volatile std::sig_atomic_t g_stop = 0;
 extern "C" void on_stop_signal(int) { g_stop = 1; }
@@ -70,7 +74,8 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
                  const std::filesystem::path& file, const RunOverrides& overrides,
                  const std::string& only, const Shard& shard) {
   Prepared p;
-  if (!std::filesystem::is_regular_file(file)) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) {
     throw core::InputError(file.string(), "", "no such scenario or suite file");
   }
   p.plan = load_run_plan(file, catalog, registry);
@@ -84,6 +89,14 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
     p.whole_matrix = 1;
   }
   for (const TrialSpec& t : p.matrix) {
+    // The id names the trial's trajectory file (at most 255 bytes with its suffix).
+    if (t.id.size() > kMaxTrialIdLength) {
+      throw core::InputError(
+          p.plan.scenarios[static_cast<size_t>(t.scenario)].file.string(), "name",
+          "trial id '" + t.id.substr(0, 60) + "...' has " + std::to_string(t.id.size()) +
+              " characters (at most " + std::to_string(kMaxTrialIdLength) +
+              "): shorten the scenario, robot, environment or planner names");
+    }
     auto& scene = p.scenes[{t.robot, t.environment}];
     if (!scene) {
       scene =
@@ -140,6 +153,25 @@ class TrialsWriter {
   int fd_ = -1;
 };
 
+// A directory --resume may continue: its provenance (when there is one) must be an object
+// from the same scenario files.
+void check_resumable(const std::filesystem::path& dir, const std::string& hash) {
+  const std::filesystem::path prov = dir / "provenance.json";
+  std::error_code ec;
+  if (!std::filesystem::exists(prov, ec)) return;
+  const nlohmann::json old = read_json_file(prov);
+  const JsonPlace where{prov.string(), 0, ""};
+  if (!old.is_object()) where.fail("must be a JSON object");
+  const nlohmann::json& old_hash =
+      json_optional_field(old, "scenario_hash", JsonKind::kString, where);
+  if (old_hash.is_string() && old_hash.get<std::string>() != hash) {
+    throw core::InputError(dir.string(), "--resume",
+                           "the run there was made from different scenario files (" +
+                               old_hash.get<std::string>() + ", now " + hash +
+                               "); choose another --out");
+  }
+}
+
 OmplLogInfo ompl_info(const RunPlan& plan, const nlohmann::json& provenance, double total_s) {
   OmplLogInfo info;
   info.experiment = plan.name;
@@ -168,18 +200,6 @@ OmplLogInfo ompl_info(const RunPlan& plan, const nlohmann::json& provenance, dou
 }
 
 }  // namespace
-
-void prepare_run_directory(const std::filesystem::path& dir, bool keep_results) {
-  std::filesystem::create_directories(dir / "trajectories");
-  if (keep_results) return;
-  for (const char* name :
-       {"trials.jsonl", "summary.json", "summary.md", "ompl.log", "planners.md", "planners.html"}) {
-    std::filesystem::remove(dir / name);
-  }
-  for (const auto& entry : std::filesystem::directory_iterator(dir / "trajectories")) {
-    std::filesystem::remove(entry.path());
-  }
-}
 
 std::string write_run_results(const std::filesystem::path& dir, const RunPlan& plan,
                               const RunInfo& info, const std::vector<nlohmann::json>& finished,
@@ -210,7 +230,7 @@ std::string write_run_results(const std::filesystem::path& dir, const RunPlan& p
   write_summary(dir, summary, appendix);
   write_file_atomically(dir / "ompl.log",
                         ompl_log_text(ompl_info(plan, provenance, info.wall_s), finished));
-  write_file_atomically(dir / "provenance.json", provenance.dump(2) + "\n");
+  write_file_atomically(dir / "provenance.json", json_text(provenance, 2) + "\n");
   return summary_markdown(summary) + appendix;
 }
 
@@ -245,38 +265,46 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   const std::filesystem::path trials_file = result.dir / "trials.jsonl";
   const std::string hash = "sha256:" + plan_hash(plan);
   std::vector<nlohmann::json> kept;
-  if (write_dir && !options.only.empty() && std::filesystem::exists(trials_file)) {
+  std::error_code ec;
+  if (write_dir && !options.only.empty() && std::filesystem::exists(trials_file, ec)) {
     throw core::InputError(result.dir.string(), "--out",
                            "holds a run; --only writes only into a new directory");
   }
-  if (write_dir && options.resume) {
-    // Checked before anything is written.
-    const std::filesystem::path prov = result.dir / "provenance.json";
-    if (std::filesystem::exists(prov)) {
-      nlohmann::json old = nlohmann::json::parse(io::read_text_file(prov), nullptr, false);
-      if (!old.is_discarded() && old.value("scenario_hash", hash) != hash) {
-        throw core::InputError(result.dir.string(), "--resume",
-                               "the run there was made from different scenario files (" +
-                                   old.value("scenario_hash", std::string("?")) + ", now " + hash +
-                                   "); choose another --out");
-      }
-    }
+  // Everything in the directory is read and checked before anything is written, and again
+  // once the directory is locked (another run may have ended in between).
+  auto read_resumed = [&] {
+    if (!write_dir || !options.resume) return;
+    check_resumable(result.dir, hash);
     TrialsFile existing = read_trials_file(trials_file);
     if (existing.torn_tail) {
       std::filesystem::resize_file(trials_file, existing.valid_bytes);
       err << "taskmatrix: resume: dropped a torn last line of " << trials_file.string() << "\n";
     }
+    if (!existing.duplicates.empty()) {
+      err << "taskmatrix: resume: " << describe_duplicates(trials_file, existing) << "\n";
+    }
     // Trials of another matrix (other --trials, --planners or --seed) stay in the file but
     // are not part of this run's summary.
     std::set<std::string> ids;
     for (const TrialSpec& t : p.matrix) ids.insert(t.id);
+    kept.clear();
     for (nlohmann::json& t : existing.trials) {
-      if (ids.count(t.value("trial_id", std::string()))) kept.push_back(std::move(t));
+      if (ids.count(t["trial_id"].get<std::string>())) kept.push_back(std::move(t));
     }
+  };
+  if (write_dir && options.resume) {
+    check_resumable(result.dir, hash);
+    read_trials_file(trials_file);  // throws on a bad line; changes nothing
   }
-  if (write_dir) prepare_run_directory(result.dir, options.resume);
+  std::unique_ptr<RunDirectoryLock> lock;
+  if (write_dir) {
+    lock = std::make_unique<RunDirectoryLock>(result.dir, options.command_line);
+    read_resumed();
+    std::filesystem::create_directories(result.dir / "trajectories");
+    if (!options.resume) lock->remove_previous_results();
+  }
   std::set<std::string> done;
-  for (const nlohmann::json& t : kept) done.insert(t.value("trial_id", std::string()));
+  for (const nlohmann::json& t : kept) done.insert(t["trial_id"].get<std::string>());
   std::vector<const TrialSpec*> pending;
   for (const TrialSpec& t : p.matrix) {
     if (!done.count(t.id)) pending.push_back(&t);
@@ -290,7 +318,8 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
                          {"from", options.shard.from},
                          {"trials", p.matrix.size()}};
   if (const nlohmann::json slurm = slurm_provenance(); !slurm.empty()) provenance["slurm"] = slurm;
-  if (write_dir) write_file_atomically(result.dir / "provenance.json", provenance.dump(2) + "\n");
+  if (write_dir)
+    write_file_atomically(result.dir / "provenance.json", json_text(provenance, 2) + "\n");
 
   const bool progress =
       options.progress == RunJobOptions::Progress::kOn ||
@@ -323,7 +352,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
       j["trajectory"] = rel;
       j["trajectory_frames"] = r.recording.frames();
     }
-    return j.dump();
+    return json_text(j);
   };
   auto wall_limit = [&](size_t i) {
     return plan.scenarios[static_cast<size_t>(pending[i]->scenario)].wall_limit_s;
@@ -348,7 +377,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     j["overhead_s"] = j["executive_wall_s"].is_number()
                           ? nlohmann::json(o.wall_s - j["executive_wall_s"].get<double>())
                           : nlohmann::json(nullptr);
-    const std::string line = j.dump();
+    const std::string line = json_text(j);
     if (writer) writer->append(line);
     if (!options.only.empty()) out << line << "\n" << std::flush;
     successes += j.value("success", false) ? 1 : 0;

@@ -58,11 +58,9 @@ struct RunJobResult {
 RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registry,
                      const RunJobOptions& options, std::ostream& out, std::ostream& err);
 
-// Every job that writes a run directory (run, merge) makes it with these two, so that the
-// directory's files mean the same whoever wrote them.
-// Creates `dir` and dir/trajectories; unless `keep_results`, removes the results of a run
-// that was there (trials, summaries, logs, trajectories).
-void prepare_run_directory(const std::filesystem::path& dir, bool keep_results);
+// Every job that writes a run directory (run, merge) locks it with a RunDirectoryLock
+// (harness/run_directory.h) and writes its results with this, so that the directory's files
+// mean the same whoever wrote them.
 // Writes summary.json and summary.md (with the run's trial ids and, with several planners,
 // each planner against the first; then also planners.md and planners.html), ompl.log and
 // `provenance` as provenance.json. `finished` are the run's own trials. Returns the Markdown

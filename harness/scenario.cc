@@ -56,6 +56,7 @@ std::vector<std::string> read_names(const io::YamlNode& node, const std::vector<
   std::vector<std::string> names = node.as_strings();
   if (names.empty()) node.fail(std::string("needs at least one ") + what);
   for (const std::string& n : names) {
+    if (const std::string bad = unsafe_name_reason(what, n); !bad.empty()) node.fail(bad);
     if (std::find(known.begin(), known.end(), n) == known.end()) {
       std::string list;
       for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
@@ -63,12 +64,6 @@ std::vector<std::string> read_names(const io::YamlNode& node, const std::vector<
     }
   }
   return names;
-}
-
-bool is_id_name(const std::string& name) {
-  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-  });
 }
 
 std::vector<PlannerConfig> read_planners(const io::YamlNode& node) {
@@ -85,7 +80,9 @@ std::vector<PlannerConfig> read_planners(const io::YamlNode& node) {
       }
     }
     p.label = item.is_scalar() ? p.spec.name : item.get_string("label", p.spec.name);
-    if (!is_id_name(p.label)) item.fail("planner label '" + p.label + "' must be [A-Za-z0-9_-]+");
+    if (const std::string bad = unsafe_name_reason("planner label", p.label); !bad.empty()) {
+      item.fail(bad);
+    }
     if (const std::string bad = check_planner(p.spec); !bad.empty()) item.fail(bad);
     for (const PlannerConfig& q : out) {
       if (q.label == p.label) item.fail("planner label '" + p.label + "' appears twice");
@@ -138,16 +135,31 @@ core::ObstacleOptions read_obstacles(const io::YamlNode& o) {
   return out;
 }
 
-std::uint64_t read_layout_seed(const io::YamlNode& node) {
-  const int v = node.as_int();
-  if (v < 0) node.fail("must be 0 or more");
-  return static_cast<std::uint64_t>(v);
-}
+std::uint64_t read_layout_seed(const io::YamlNode& node) { return node.as_uint64(); }
 
 std::uint32_t read_seed(const io::YamlNode& node) {
   const int v = node.as_int();
   if (v < 1) node.fail("must be 1 or more");
   return static_cast<std::uint32_t>(v);
+}
+
+std::string read_planner_budget(const io::YamlNode& node) {
+  const std::string v = node.as_string();
+  if (v != "iterations" && v != "time") node.fail("must be iterations or time, not '" + v + "'");
+  return v;
+}
+
+unsigned read_plan_iterations(const io::YamlNode& node) {
+  const int v = node.as_int();
+  if (v < 1 || v > 100000000) node.fail("must be in 1..100000000");
+  return static_cast<unsigned>(v);
+}
+
+// Beyond a day OMPL's deadline arithmetic overflows (every plan would time out at once).
+double read_plan_time_limit(const io::YamlNode& node) {
+  const double v = node.as_positive_double();
+  if (v > 86400) node.fail("must be at most 86400 s (a day)");
+  return v;
 }
 
 double read_wall_limit(const io::YamlNode& node) {
@@ -171,17 +183,33 @@ std::string check_planner(const core::PlannerSpec& spec) {
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
                        core::ProgramRegistry& registry) {
   const io::YamlNode root = io::YamlNode::load_file(file);
-  root.expect_keys({"name", "doc", "program", "machine", "params", "setup", "robots",
-                    "environments", "perception", "obstacles", "planners", "layout_seed", "seed",
-                    "trials", "visitor", "plan_time_limit_s", "time_limit_s", "wall_limit_s",
+  root.expect_keys({"name",
+                    "doc",
+                    "program",
+                    "machine",
+                    "params",
+                    "setup",
+                    "robots",
+                    "environments",
+                    "perception",
+                    "obstacles",
+                    "planners",
+                    "layout_seed",
+                    "seed",
+                    "trials",
+                    "visitor",
+                    "planner_budget",
+                    "plan_iterations",
+                    "plan_time_limit_s",
+                    "time_limit_s",
+                    "wall_limit_s",
                     "success"});
   Scenario s;
   s.file = file;
   s.file_text = io::read_text_file(file);
   s.name = root.get_string("name", file.stem().string());
-  if (!is_id_name(s.name)) {
-    (root.has("name") ? root.required("name") : root)
-        .fail("scenario name '" + s.name + "' must be [A-Za-z0-9_-]+ (it is part of trial ids)");
+  if (const std::string bad = unsafe_name_reason("scenario", s.name); !bad.empty()) {
+    (root.has("name") ? root.required("name") : root).fail(bad);
   }
   s.doc = root.get_string("doc", "");
   if (auto machine = root.optional("machine")) {
@@ -227,7 +255,9 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
       if (s.visitor_speed_mps < 0 || s.visitor_speed_mps > 3) speed->fail("must be in [0, 3] m/s");
     }
   }
-  if (auto t = root.optional("plan_time_limit_s")) s.plan_time_limit_s = t->as_positive_double();
+  if (auto b = root.optional("planner_budget")) s.planner_budget = read_planner_budget(*b);
+  if (auto n = root.optional("plan_iterations")) s.plan_iterations = read_plan_iterations(*n);
+  if (auto t = root.optional("plan_time_limit_s")) s.plan_time_limit_s = read_plan_time_limit(*t);
   if (auto t = root.optional("time_limit_s")) s.time_limit_s = t->as_positive_double();
   if (auto t = root.optional("wall_limit_s")) s.wall_limit_s = read_wall_limit(*t);
   if (auto success = root.optional("success")) {
@@ -253,17 +283,21 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     return plan;
   }
   root.expect_keys({"suite", "doc", "scenarios", "trials", "layout_seed", "seed", "planners",
-                    "robots", "environments", "plan_time_limit_s", "wall_limit_s"});
+                    "robots", "environments", "planner_budget", "plan_iterations",
+                    "plan_time_limit_s", "wall_limit_s"});
   plan.suite = true;
   plan.text = io::read_text_file(file);
   plan.name = root.required("suite").as_string();
-  if (!is_id_name(plan.name)) root.required("suite").fail("suite name must be [A-Za-z0-9_-]+");
+  if (const std::string bad = unsafe_name_reason("suite", plan.name); !bad.empty()) {
+    root.required("suite").fail(bad);
+  }
   plan.doc = root.get_string("doc", "");
   const io::YamlNode list = root.required("scenarios");
   for (const io::YamlNode& item : list.items()) {
     std::filesystem::path included = item.as_string();
     if (included.is_relative()) included = file.parent_path() / included;
-    if (!std::filesystem::is_regular_file(included)) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(included, ec)) {
       item.fail("no scenario file '" + included.string() + "'");
     }
     Scenario s = load_scenario(included, catalog, registry);
@@ -282,7 +316,9 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     if (auto n = root.optional("environments")) {
       s.environments = read_names(*n, catalog.environments(), "environment");
     }
-    if (auto n = root.optional("plan_time_limit_s")) s.plan_time_limit_s = n->as_positive_double();
+    if (auto n = root.optional("planner_budget")) s.planner_budget = read_planner_budget(*n);
+    if (auto n = root.optional("plan_iterations")) s.plan_iterations = read_plan_iterations(*n);
+    if (auto n = root.optional("plan_time_limit_s")) s.plan_time_limit_s = read_plan_time_limit(*n);
     if (auto n = root.optional("wall_limit_s")) s.wall_limit_s = read_wall_limit(*n);
   }
   return plan;
@@ -305,6 +341,10 @@ void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
     if (overrides.trials > 0) s.trials = overrides.trials;
     if (overrides.seed > 0) s.seed = overrides.seed;
     if (!planners.empty()) s.planners = planners;
+    if (s.layout_seed > UINT64_MAX - static_cast<std::uint64_t>(s.trials - 1)) {
+      throw core::InputError(s.file.string(), "layout_seed",
+                             "layout_seed + trials - 1 must stay within 2^64 - 1");
+    }
     if (static_cast<std::uint64_t>(s.seed) + static_cast<std::uint64_t>(s.trials) - 1 >
         0xffffffffULL) {
       throw core::InputError("--seed", "",

@@ -46,7 +46,12 @@ struct Scenario {
   std::uint32_t seed = 1;         // of the executive's plan-seed sequence; trial k: seed + k
   int trials = 1;
   double visitor_speed_mps = 0;
-  double plan_time_limit_s = 5.0;
+  // The planner's budget per plan call: "iterations" (at most plan_iterations; the trial then
+  // repeats exactly and plan_time_limit_s is a safety net) or "time" (plan_time_limit_s alone:
+  // anytime planners then depend on the machine's load).
+  std::string planner_budget = "iterations";
+  unsigned plan_iterations = 10000;
+  double plan_time_limit_s = 60.0;
   double time_limit_s = 60.0;   // simulated seconds for the program (and each set-up step)
   double wall_limit_s = 120.0;  // wall-clock seconds a trial's worker may take before it is killed
   std::string success;          // condition text; empty: the program's completion is the success
@@ -64,7 +69,8 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
 //   scenarios: [programs/reach.yaml, ...]   # relative to the suite file
 //   trials: 3                     # optional overrides for every scenario: trials,
 //                                 # layout_seed, seed, planners, robots, environments,
-//                                 # plan_time_limit_s, wall_limit_s
+//                                 # planner_budget, plan_iterations, plan_time_limit_s,
+//                                 # wall_limit_s
 struct RunPlan {
   std::string name;
   std::string doc;

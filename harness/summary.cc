@@ -1,11 +1,20 @@
 #include "harness/summary.h"
 
+#include <signal.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <tuple>
+
+#include "harness/json_input.h"
+#include "taskmatrix/core/utf8.h"
+#include "taskmatrix/io/text_file.h"
 
 namespace taskmatrix::harness {
 
@@ -34,6 +43,50 @@ std::string format_number(const char* format, double v) {
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
 }
+
+std::string valid_utf8(const std::string& text) { return core::valid_utf8(text); }
+
+namespace {
+
+std::string markdown(const std::string& text, bool keep_newlines) {
+  std::string out;
+  for (char c : valid_utf8(text)) {
+    switch (c) {
+      case '|':
+      case '\\':
+      case '`':
+      case '*':
+      case '[':
+      case ']':
+        out += '\\';
+        out += c;
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '\n':
+        out += keep_newlines ? "\n" : " ";
+        break;
+      case '\r':
+        out += ' ';
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string markdown_cell(const std::string& text) { return markdown(text, false); }
+std::string markdown_text(const std::string& text) { return markdown(text, true); }
 
 namespace {
 
@@ -128,20 +181,21 @@ nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> tria
 std::string summary_markdown(const nlohmann::json& s) {
   const nlohmann::json& run = s["run"];
   const nlohmann::json& all = s["overall"];
-  std::string md = "# Run " + run["name"].get<std::string>() + "\n\n";
-  if (!run["doc"].get<std::string>().empty()) md += run["doc"].get<std::string>() + "\n\n";
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "%d of %d trials finished%s; %d succeeded: %.1f%% (95%% Wilson interval "
-                "%.1f%%..%.1f%%). Planning time per trial: median %s s, p90 %s s.\n\n",
-                run["finished_trials"].get<int>(), run["planned_trials"].get<int>(),
-                run["interrupted"].get<bool>() ? " (interrupted)" : "", all["successes"].get<int>(),
-                100.0 * all["success_rate"].get<double>(),
-                100.0 * all["success_ci95"][0].get<double>(),
-                100.0 * all["success_ci95"][1].get<double>(),
-                fmt(all["planning_time_s"]["median"], "%.3f").c_str(),
-                fmt(all["planning_time_s"]["p90"], "%.3f").c_str());
-  md += line;
+  auto text = [](const nlohmann::json& v) { return markdown_cell(v.get<std::string>()); };
+  std::string md = "# Run " + text(run["name"]) + "\n\n";
+  if (!run["doc"].get<std::string>().empty()) {
+    md += markdown_text(run["doc"].get<std::string>()) + "\n\n";
+  }
+  md += std::to_string(run["finished_trials"].get<int>()) + " of " +
+        std::to_string(run["planned_trials"].get<int>()) + " trials finished" +
+        (run["interrupted"].get<bool>() ? " (interrupted)" : "") + "; " +
+        std::to_string(all["successes"].get<int>()) +
+        " succeeded: " + format_number("%.1f", 100.0 * all["success_rate"].get<double>()) +
+        "% (95% Wilson interval " +
+        format_number("%.1f", 100.0 * all["success_ci95"][0].get<double>()) + "%.." +
+        format_number("%.1f", 100.0 * all["success_ci95"][1].get<double>()) +
+        "%). Planning time per trial: median " + fmt(all["planning_time_s"]["median"], "%.3f") +
+        " s, p90 " + fmt(all["planning_time_s"]["p90"], "%.3f") + " s.\n\n";
   md +=
       "| scenario | robot | environment | planner | success | 95% CI | planning s (median / p90) "
       "| joint path | EE path m | duration s | failures |\n";
@@ -150,39 +204,72 @@ std::string summary_markdown(const nlohmann::json& s) {
     std::string failures;
     for (const auto& [status, count] : g["statuses"].items()) {
       if (status == "success") continue;
-      failures += (failures.empty() ? "" : ", ") + status + " " + std::to_string(count.get<int>());
+      failures += (failures.empty() ? "" : ", ") + markdown_cell(status) + " " +
+                  std::to_string(count.get<int>());
     }
-    std::snprintf(
-        line, sizeof line,
-        "| %s | %s | %s | %s | %d/%d | %.0f%%..%.0f%% | %s / %s | %s | %s | %s | %s |\n",
-        g["scenario"].get<std::string>().c_str(), g["robot"].get<std::string>().c_str(),
-        g["environment"].get<std::string>().c_str(), g["planner"].get<std::string>().c_str(),
-        g["successes"].get<int>(), g["trials"].get<int>(),
-        100.0 * g["success_ci95"][0].get<double>(), 100.0 * g["success_ci95"][1].get<double>(),
-        fmt(g["planning_time_s"]["median"], "%.3f").c_str(),
-        fmt(g["planning_time_s"]["p90"], "%.3f").c_str(),
-        fmt(g["path_length_joint"]["median"], "%.2f").c_str(),
-        fmt(g["path_length_ee_m"]["median"], "%.2f").c_str(),
-        fmt(g["duration_s"]["median"], "%.1f").c_str(), failures.empty() ? "-" : failures.c_str());
-    md += line;
+    md += "| " + text(g["scenario"]) + " | " + text(g["robot"]) + " | " + text(g["environment"]) +
+          " | " + text(g["planner"]) + " | " + std::to_string(g["successes"].get<int>()) + "/" +
+          std::to_string(g["trials"].get<int>()) + " | " +
+          format_number("%.0f", 100.0 * g["success_ci95"][0].get<double>()) + "%.." +
+          format_number("%.0f", 100.0 * g["success_ci95"][1].get<double>()) + "% | " +
+          fmt(g["planning_time_s"]["median"], "%.3f") + " / " +
+          fmt(g["planning_time_s"]["p90"], "%.3f") + " | " +
+          fmt(g["path_length_joint"]["median"], "%.2f") + " | " +
+          fmt(g["path_length_ee_m"]["median"], "%.2f") + " | " +
+          fmt(g["duration_s"]["median"], "%.1f") + " | " + (failures.empty() ? "-" : failures) +
+          " |\n";
   }
   return md;
 }
 
-void write_file_atomically(const std::filesystem::path& file, const std::string& text) {
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
+namespace {
+
+// Blocks SIGINT and SIGTERM while files are renamed into place: a Ctrl-C then takes effect
+// after the last rename, never between two.
+class DeferStopSignals {
+ public:
+  DeferStopSignals() {
+    sigset_t stop;
+    sigemptyset(&stop);
+    sigaddset(&stop, SIGINT);
+    sigaddset(&stop, SIGTERM);
+    sigprocmask(SIG_BLOCK, &stop, &old_);
   }
-  std::filesystem::rename(tmp, file);
+  ~DeferStopSignals() { sigprocmask(SIG_SETMASK, &old_, nullptr); }
+  DeferStopSignals(const DeferStopSignals&) = delete;
+  DeferStopSignals& operator=(const DeferStopSignals&) = delete;
+
+ private:
+  sigset_t old_;
+};
+
+}  // namespace
+
+void write_file_atomically(const std::filesystem::path& file, const std::string& text) {
+  write_files_atomically({{file, text}});
+}
+
+void write_files_atomically(
+    const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
+  std::vector<std::filesystem::path> written;
+  try {
+    for (const auto& [file, text] : files) {
+      io::write_file_checked(file.string() + ".tmp", text);
+      written.push_back(file.string() + ".tmp");
+    }
+  } catch (...) {
+    std::error_code ignored;
+    for (const std::filesystem::path& tmp : written) std::filesystem::remove(tmp, ignored);
+    throw;
+  }
+  const DeferStopSignals defer;
+  for (const auto& [file, text] : files) std::filesystem::rename(file.string() + ".tmp", file);
 }
 
 void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary,
                    const std::string& appendix) {
-  write_file_atomically(dir / "summary.json", summary.dump(2) + "\n");
-  write_file_atomically(dir / "summary.md", summary_markdown(summary) + appendix);
+  write_files_atomically({{dir / "summary.json", json_text(summary, 2) + "\n"},
+                          {dir / "summary.md", summary_markdown(summary) + appendix}});
 }
 
 }  // namespace taskmatrix::harness

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -23,6 +24,15 @@ Interval wilson_interval(int successes, int n, double z = 1.959963984540054);
 double quantile(std::vector<double> values, double q);
 // `format` (printf, one double) applied to v for reports; "-" when v is not finite.
 std::string format_number(const char* format, double v);
+
+// Text from names, reasons and docs for a Markdown table cell: '|', '\\', '`', '*', '[', ']'
+// escaped ('_' inside names emphasises nothing), '<', '>', '&' as HTML entities (no markup gets
+// through), line breaks as spaces, bytes that are not UTF-8 as U+FFFD.
+std::string markdown_cell(const std::string& text);
+// The same for running text (a doc): line breaks kept.
+std::string markdown_text(const std::string& text);
+// `text` with every byte sequence that is not UTF-8 replaced by U+FFFD.
+std::string valid_utf8(const std::string& text);
 
 struct RunInfo {
   std::string name;
@@ -40,7 +50,13 @@ std::string summary_markdown(const nlohmann::json& summary);
 void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary,
                    const std::string& appendix = "");
 
-// Writes `text` to `file` through a temporary file and a rename.
+// Writes `text` to `file` through a temporary file (every write, the sync and the close
+// checked: a full disk is an error, never an empty file) and a rename. Throws
+// std::runtime_error naming the file.
 void write_file_atomically(const std::filesystem::path& file, const std::string& text);
+// The same for several files that belong together: all are written first, then renamed with
+// SIGINT and SIGTERM held back, so an interruption leaves either the old set or the new one.
+void write_files_atomically(
+    const std::vector<std::pair<std::filesystem::path, std::string>>& files);
 
 }  // namespace taskmatrix::harness

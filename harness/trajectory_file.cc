@@ -2,11 +2,13 @@
 
 #include <zlib.h>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "harness/json_input.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
@@ -14,6 +16,10 @@ namespace taskmatrix::harness {
 namespace {
 
 constexpr const char* kMagic = "taskmatrix-trajectory 1\n";
+constexpr std::uint64_t kMaxNq = 100000;
+constexpr double kMaxTimeS = 1e6;        // simulated seconds
+constexpr double kMaxCoordinate = 1000;  // metres
+constexpr size_t kMaxBytes = size_t{1} << 30;
 
 struct GzCloser {
   void operator()(gzFile f) const {
@@ -62,7 +68,7 @@ void write_trajectory_file(const std::filesystem::path& file, const TrajectoryFi
                         {"body", k < t.removed_bodies.size() ? t.removed_bodies[k] : ""}});
   }
   header["removals"] = removals;
-  const std::string head = std::string(kMagic) + header.dump() + "\n";
+  const std::string head = std::string(kMagic) + json_text(header) + "\n";
 
   std::vector<std::uint32_t> words(r.qpos.size());
   const size_t nq = static_cast<size_t>(r.nq);
@@ -97,6 +103,7 @@ TrajectoryFile read_trajectory_file(const std::filesystem::path& file) {
     if (n < 0) throw core::InputError(name, "", "not a readable gzip file");
     if (n == 0) break;
     text.append(buf, static_cast<size_t>(n));
+    if (text.size() > kMaxBytes) throw core::InputError(name, "", "larger than 1 GiB unpacked");
   }
   if (text.rfind(kMagic, 0) != 0) {
     throw core::InputError(name, "",
@@ -105,40 +112,74 @@ TrajectoryFile read_trajectory_file(const std::filesystem::path& file) {
   const size_t eol = text.find('\n', std::strlen(kMagic));
   if (eol == std::string::npos) throw core::InputError(name, "header", "truncated header");
   TrajectoryFile t;
-  try {
-    const nlohmann::json h =
-        nlohmann::json::parse(text.substr(std::strlen(kMagic), eol - std::strlen(kMagic)));
-    t.robot = h.at("robot").get<std::string>();
-    t.environment = h.at("environment").get<std::string>();
-    t.layout.seed = h.at("layout_seed").get<std::uint64_t>();
-    for (const nlohmann::json& o : h.at("obstacles")) {
-      core::PlacedObstacle p;
-      const std::string shape = o.at("shape").get<std::string>();
-      p.shape = shape == "box"        ? core::ObstacleShape::kBox
-                : shape == "cylinder" ? core::ObstacleShape::kCylinder
-                                      : core::ObstacleShape::kSphere;
-      p.region = o.at("region").get<int>();
-      const auto pos = o.at("position").get<std::vector<double>>();
-      const auto size = o.at("size").get<std::vector<double>>();
-      if (pos.size() != 3 || size.size() != 3) throw std::runtime_error("obstacle vectors");
-      p.position = Eigen::Vector3d(pos[0], pos[1], pos[2]);
-      p.size = Eigen::Vector3d(size[0], size[1], size[2]);
-      p.yaw = o.at("yaw").get<double>();
-      p.footprint_radius = o.at("footprint_radius").get<double>();
-      t.layout.obstacles.push_back(p);
+  const nlohmann::json h =
+      parse_json_text(text.substr(std::strlen(kMagic), eol - std::strlen(kMagic)), name, 2);
+  const JsonPlace where{name, 2, ""};
+  if (!h.is_object()) where.fail("the header must be a JSON object");
+  auto number = [](const nlohmann::json& object, const char* key, const JsonPlace& w) {
+    return json_field(object, key, JsonKind::kNumber, w).get<double>();
+  };
+  t.robot = json_field(h, "robot", JsonKind::kString, where).get<std::string>();
+  t.environment = json_field(h, "environment", JsonKind::kString, where).get<std::string>();
+  t.layout.seed = json_field(h, "layout_seed", JsonKind::kUnsigned, where).get<std::uint64_t>();
+  const nlohmann::json& obstacles = json_field(h, "obstacles", JsonKind::kArray, where);
+  for (size_t i = 0; i < obstacles.size(); ++i) {
+    const JsonPlace ow = where.at("obstacles[" + std::to_string(i) + "]");
+    const nlohmann::json& o = obstacles[i];
+    core::PlacedObstacle p;
+    const std::string shape = json_field(o, "shape", JsonKind::kString, ow).get<std::string>();
+    if (shape != "box" && shape != "cylinder" && shape != "sphere") {
+      ow.at("shape").fail("must be box, cylinder or sphere");
     }
-    t.recording.nq = h.at("nq").get<int>();
-    t.recording.frame_period_s = h.at("frame_period_s").get<double>();
-    t.recording.times = h.at("times").get<std::vector<double>>();
-    for (const nlohmann::json& rm : h.at("removals")) {
-      t.recording.removals.push_back({rm.at("time_s").get<double>(), -1});
-      t.removed_bodies.push_back(rm.at("body").get<std::string>());
+    p.shape = shape == "box"        ? core::ObstacleShape::kBox
+              : shape == "cylinder" ? core::ObstacleShape::kCylinder
+                                    : core::ObstacleShape::kSphere;
+    const std::uint64_t region =
+        json_field(o, "region", JsonKind::kUnsigned, ow).get<std::uint64_t>();
+    if (region > 1000) ow.at("region").fail("must be a region index (0..1000)");
+    p.region = static_cast<int>(region);
+    for (const char* key : {"position", "size"}) {
+      const nlohmann::json& v = json_field(o, key, JsonKind::kArray, ow);
+      if (v.size() != 3) ow.at(key).fail("must hold 3 numbers");
+      Eigen::Vector3d x;
+      for (int k = 0; k < 3; ++k) {
+        if (!v[k].is_number() || !std::isfinite(v[k].get<double>()) ||
+            std::abs(v[k].get<double>()) > kMaxCoordinate) {
+          ow.at(key).fail("must hold 3 finite numbers (metres, |x| <= 1000)");
+        }
+        x[k] = v[k].get<double>();
+      }
+      (std::string(key) == "position" ? p.position : p.size) = x;
     }
-    if (h.at("frames").get<size_t>() != t.recording.times.size() || t.recording.nq <= 0) {
-      throw std::runtime_error("frame count and times disagree");
+    p.yaw = number(o, "yaw", ow);
+    p.footprint_radius = number(o, "footprint_radius", ow);
+    t.layout.obstacles.push_back(p);
+  }
+  const std::uint64_t values = json_field(h, "nq", JsonKind::kUnsigned, where).get<std::uint64_t>();
+  if (values == 0 || values > kMaxNq) where.at("nq").fail("must be in 1..100000");
+  t.recording.nq = static_cast<int>(values);
+  t.recording.frame_period_s = number(h, "frame_period_s", where);
+  const nlohmann::json& times = json_field(h, "times", JsonKind::kArray, where);
+  for (size_t k = 0; k < times.size(); ++k) {
+    // Simulated seconds, in order, within what a trial can last.
+    const double v = times[k].is_number() ? times[k].get<double>() : NAN;
+    if (!(std::isfinite(v) && v >= 0 && v <= kMaxTimeS) ||
+        (k > 0 && v < t.recording.times.back())) {
+      where.at("times[" + std::to_string(k) + "]")
+          .fail("must be a time in [0, 1e6] s, not before the previous frame's");
     }
-  } catch (const std::exception& e) {
-    throw core::InputError(name, "header", std::string("malformed: ") + e.what());
+    t.recording.times.push_back(v);
+  }
+  const nlohmann::json& removals = json_field(h, "removals", JsonKind::kArray, where);
+  for (size_t k = 0; k < removals.size(); ++k) {
+    const JsonPlace rw = where.at("removals[" + std::to_string(k) + "]");
+    t.recording.removals.push_back({number(removals[k], "time_s", rw), -1});
+    t.removed_bodies.push_back(
+        json_field(removals[k], "body", JsonKind::kString, rw).get<std::string>());
+  }
+  if (json_field(h, "frames", JsonKind::kUnsigned, where).get<std::uint64_t>() !=
+      t.recording.times.size()) {
+    where.at("frames").fail("disagrees with the number of times");
   }
   const size_t nq = static_cast<size_t>(t.recording.nq);
   const size_t count = t.recording.frames() * nq;

@@ -53,6 +53,8 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
   }
   core::ExecutiveOptions options;
   options.plan.time_limit_s = scenario.plan_time_limit_s;
+  options.plan.max_iterations =
+      scenario.planner_budget == "iterations" ? scenario.plan_iterations : 0;
   options.seed = seed;
   const PlannerConfig* planner =
       trial_options.planner ? trial_options.planner

@@ -1,6 +1,8 @@
 #include "harness/trial_matrix.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 #include <sstream>
 
 #include "taskmatrix/core/input_error.h"
@@ -135,12 +137,15 @@ TrialSpec parse_trial_id(const RunPlan& plan, const std::string& id) {
   if (planner == scenario->planners.end()) fail("the scenario has no planner '" + parts[3] + "'");
   t.planner = static_cast<int>(planner - scenario->planners.begin());
   auto number = [&](const std::string& part, char prefix) -> unsigned long long {
+    errno = 0;
+    const unsigned long long v =
+        part.size() >= 2 ? std::strtoull(part.c_str() + 1, nullptr, 10) : 0;
     if (part.size() < 2 || part[0] != prefix ||
         !std::all_of(part.begin() + 1, part.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
-        part.size() > 11) {
-      fail(std::string("expected ") + prefix + "<number>, not '" + part + "'");
+        part.size() > 21 || errno == ERANGE) {
+      fail(std::string("expected ") + prefix + "<number> (at most 2^64 - 1), not '" + part + "'");
     }
-    return std::stoull(part.substr(1));
+    return v;
   };
   t.layout_seed = number(parts[4], 'l');
   const unsigned long long seed = number(parts[5], 's');

@@ -43,6 +43,8 @@ mujoco::CameraView camera_view(const mujoco::Scene& scene, std::string& camera) 
 
 namespace {
 
+constexpr double kMaxVideoFrames = 90000;
+
 std::unique_ptr<Replay> load_replay(const ModelCatalog& catalog,
                                     const std::string& run_dir_and_trial) {
   const std::filesystem::path file = trajectory_of(run_dir_and_trial);
@@ -328,9 +330,14 @@ VideoInfo write_trial_video(const ModelCatalog& catalog, const std::string& run_
 
   const double t0 = replay->time_of(0);
   const double step = options.speed / options.fps;
-  info.frames =
-      static_cast<size_t>(std::floor((replay->time_of(replay->frames() - 1) - t0) / step + 1e-6)) +
-      1;
+  const double frames = std::floor((replay->time_of(replay->frames() - 1) - t0) / step + 1e-6) + 1;
+  if (!(frames <= kMaxVideoFrames)) {
+    throw core::InputError("--video", "",
+                           "the trial would make " + number(frames) + " video frames (at most " +
+                               number(kMaxVideoFrames) +
+                               ", an hour at 25 fps): raise --speed or lower --fps");
+  }
+  info.frames = static_cast<size_t>(frames);
   info.duration_s = static_cast<double>(info.frames) / options.fps;
 
   static std::atomic<unsigned> serial{0};

@@ -286,7 +286,9 @@ class ConditionParser {
   ConditionPtr parse() {
     ConditionPtr c = call();
     skip_space();
-    if (pos_ != text_.size()) error("unexpected '" + text_.substr(pos_) + "' after the condition");
+    if (pos_ != text_.size()) {
+      error("unexpected '" + shortened(text_.substr(pos_)) + "' after the condition");
+    }
     return c;
   }
 
@@ -297,7 +299,10 @@ class ConditionParser {
   };
 
   [[noreturn]] void error(const std::string& what) const {
-    throw std::invalid_argument("condition '" + text_ + "': " + what);
+    throw std::invalid_argument("condition '" + shortened(text_) + "': " + what);
+  }
+  static std::string shortened(const std::string& text) {
+    return text.size() <= 120 ? text : text.substr(0, 100) + "...";
   }
   void skip_space() {
     while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
@@ -311,7 +316,7 @@ class ConditionParser {
       ++pos_;
     }
     if (pos_ == start) {
-      error(pos_ < text_.size() ? "expected a name at '" + text_.substr(pos_) + "'"
+      error(pos_ < text_.size() ? "expected a name at '" + shortened(text_.substr(pos_)) + "'"
                                 : "expected a name at the end");
     }
     return text_.substr(start, pos_ - start);
@@ -327,6 +332,11 @@ class ConditionParser {
   ConditionPtr call() {
     const std::string name = word();
     expect('(');
+    // Conditions nest through not, all_of and any_of; parsing, evaluating and describing them
+    // recurse, so the depth is bounded.
+    if (++depth_ > kMaxConditionDepth) {
+      error("nested more than " + std::to_string(kMaxConditionDepth) + " levels deep");
+    }
     std::vector<Arg> args;
     if (!peek(')')) {
       do {
@@ -334,6 +344,7 @@ class ConditionParser {
       } while (peek(',') && (++pos_, true));
     }
     expect(')');
+    --depth_;
     return make(name, args);
   }
   Arg arg() {
@@ -419,6 +430,7 @@ class ConditionParser {
 
   const std::string& text_;
   size_t pos_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace

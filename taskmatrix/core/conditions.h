@@ -71,7 +71,9 @@ ConditionPtr any_of(std::vector<ConditionPtr> conditions);
 ConditionPtr negate(ConditionPtr condition);
 
 // Parses the text form. Throws std::invalid_argument naming the position and what was
-// expected ("condition 'near(cup)': near takes 2 or 3 arguments").
+// expected ("condition 'near(cup)': near takes 2 or 3 arguments"), also for conditions nested
+// more than kMaxConditionDepth calls deep.
+inline constexpr int kMaxConditionDepth = 64;
 ConditionPtr parse_condition(const std::string& text);
 
 // Whether `point` (world) is inside the head camera's field of view and range now; for a box,

@@ -39,11 +39,20 @@ struct PlannerSpec {
   std::map<std::string, std::string> params;
 };
 
+// Work bounds make a plan repeat exactly (same request and seed, same path and counts, whatever
+// the machine's load); clock bounds are safety nets, and a result says when one fired.
 struct PlanOptions {
   PlannerSpec planner;
-  double time_limit_s = 5.0;
-  unsigned max_iterations = 0;       // > 0: also stop after this many planner iterations
-  double simplify_time_s = 0.25;     // bound on simplification; 0 skips it
+  // The planner's budget: > 0: at most this many iterations (evaluations of OMPL's termination
+  // condition, about one sampling step each), with time_limit_s as a safety net; 0: the clock
+  // alone (time_limit_s), which makes anytime planners (RRTstar, PRM, BITstar) depend on load.
+  unsigned max_iterations = 10000;
+  double time_limit_s = 60.0;  // in (0, 86400]
+  // Path simplification: rounds of OMPL's shortcutting, B-spline smoothing and vertex
+  // reduction, each with a fixed amount of work (0 skips it); simplify_time_s is its clock
+  // safety net (when it fires, the path is the one simplified so far).
+  int simplify_rounds = 3;
+  double simplify_time_s = 30.0;
   double motion_resolution = 0.005;  // fraction of the space's extent between checked states
   // Distance paths keep from obstacles (not from the floor), except near the start and goals
   // (which may be closer): room for the execution's tracking error. 0: paths may touch.
@@ -85,8 +94,12 @@ struct PlanResult {
   std::vector<std::vector<double>> path;  // waypoints, start first
   double planning_time_s = 0;
   double simplification_time_s = 0;
+  // A clock safety net decided the result (the planner's time limit with an iteration budget,
+  // or any stop by the clock without one; the simplification's): it may differ under load.
+  bool planning_hit_time_limit = false;
   bool simplification_hit_time_limit = false;
-  double ik_time_s = 0;  // inverse kinematics for pose goals
+  std::uint64_t planner_iterations = 0;  // evaluations of the termination condition
+  double ik_time_s = 0;                  // inverse kinematics for pose goals
   std::uint64_t collision_checks = 0;
   unsigned graph_states = 0;
   int plan_calls = 0;   // planner runs behind this result (one per pose tried)

@@ -13,7 +13,9 @@ namespace {
 
 std::filesystem::path existing_file(const YamlNode& node, const std::filesystem::path& dir) {
   const std::filesystem::path p = (dir / node.as_string()).lexically_normal();
-  if (!std::filesystem::is_regular_file(p)) node.fail("file '" + p.string() + "' does not exist");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec))
+    node.fail("file '" + p.string() + "' does not exist");
   return p;
 }
 

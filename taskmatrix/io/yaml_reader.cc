@@ -1,11 +1,16 @@
 #include "taskmatrix/io/yaml_reader.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/utf8.h"
 #include "taskmatrix/io/text_file.h"
 
 namespace taskmatrix::io {
@@ -16,6 +21,13 @@ YamlNode::YamlNode(YAML::Node node, std::shared_ptr<const std::string> file, std
     : node_(std::move(node)), file_(std::move(file)), key_(std::move(key)) {}
 
 YamlNode YamlNode::parse(const std::string& text, const std::string& file) {
+  // YAML is UTF-8 here; other bytes would pass through to names, reports and JSON.
+  if (const std::optional<size_t> bad = core::invalid_utf8_at(text)) {
+    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + *bad, '\n'));
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned char>(text[*bad]));
+    throw InputError(file, "", std::string("not UTF-8 text (byte ") + byte + ")", line);
+  }
   try {
     YAML::Node root = YAML::Load(text);
     return YamlNode(root, std::make_shared<const std::string>(file), "");
@@ -146,6 +158,20 @@ int YamlNode::as_int() const {
   } catch (const YAML::Exception&) {
     fail("must be an integer, got '" + node_.Scalar() + "'");
   }
+}
+
+std::uint64_t YamlNode::as_uint64() const {
+  if (!node_.IsScalar()) fail("must be an integer");
+  const std::string& text = node_.Scalar();
+  if (text.empty() || text.size() > 20 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    fail("must be an integer from 0 to 18446744073709551615, got '" + text + "'");
+  }
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE)
+    fail("must be an integer from 0 to 18446744073709551615, got '" + text + "'");
+  return static_cast<std::uint64_t>(v);
 }
 
 bool YamlNode::as_bool() const {

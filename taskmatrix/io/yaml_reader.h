@@ -3,6 +3,7 @@
 // other key is an error, numbers must be finite, types must match.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <initializer_list>
 #include <memory>
@@ -42,6 +43,7 @@ class YamlNode {
   double as_double() const;  // finite only
   double as_positive_double() const;
   int as_int() const;
+  std::uint64_t as_uint64() const;  // digits only, 0..2^64-1
   bool as_bool() const;
   std::string as_string() const;  // non-empty scalar
   std::vector<double> as_doubles() const;

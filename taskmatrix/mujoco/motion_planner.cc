@@ -19,11 +19,14 @@
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/geometric/planners/rrt/RRTstar.h>
 #include <ompl/geometric/planners/sbl/SBL.h>
+#include <ompl/tools/config/MagicConstants.h>
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 
 #include "taskmatrix/mujoco/validity_checker.h"
@@ -37,25 +40,7 @@ namespace {
 
 constexpr double kLimitSlack = 0.02;      // rad or m
 constexpr double kEndpointRadius = 0.25;  // rad or m
-
-using Factory = std::function<ob::PlannerPtr(const ob::SpaceInformationPtr&)>;
-
-const std::map<std::string, Factory>& factories() {
-  static const std::map<std::string, Factory> f = {
-      {"BiEST", [](auto si) { return std::make_shared<og::BiEST>(si); }},
-      {"BITstar", [](auto si) { return std::make_shared<og::BITstar>(si); }},
-      {"BKPIECE1", [](auto si) { return std::make_shared<og::BKPIECE1>(si); }},
-      {"EST", [](auto si) { return std::make_shared<og::EST>(si); }},
-      {"KPIECE1", [](auto si) { return std::make_shared<og::KPIECE1>(si); }},
-      {"LazyPRM", [](auto si) { return std::make_shared<og::LazyPRM>(si); }},
-      {"PRM", [](auto si) { return std::make_shared<og::PRM>(si); }},
-      {"RRT", [](auto si) { return std::make_shared<og::RRT>(si); }},
-      {"RRTConnect", [](auto si) { return std::make_shared<og::RRTConnect>(si); }},
-      {"RRTstar", [](auto si) { return std::make_shared<og::RRTstar>(si); }},
-      {"SBL", [](auto si) { return std::make_shared<og::SBL>(si); }},
-  };
-  return f;
-}
+constexpr double kMaxTimeLimitS = 86400;  // beyond it, OMPL's deadline arithmetic overflows
 
 // OMPL reports reseeding after RNGs exist as an error; reseeding is deliberate here.
 class QuietOmplOutput : public ompl::msg::OutputHandler {
@@ -89,6 +74,144 @@ bool set_param(ob::Planner& planner, const std::string& key, const std::string& 
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The planner's termination condition: an iteration budget (when given) checked before a
+// clock bound, latched, so that the result says which of the two stopped the planner.
+class Budget {
+ public:
+  Budget(std::uint64_t max_iterations, double time_limit_s)
+      : max_iterations_(max_iterations),
+        deadline_(std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                      std::chrono::duration<double>(time_limit_s))) {}
+  bool operator()() {
+    if (iterations_out_ || clock_out_) return true;
+    ++evaluations_;
+    if (max_iterations_ > 0 && evaluations_ > max_iterations_) return iterations_out_ = true;
+    if (std::chrono::steady_clock::now() > deadline_) return clock_out_ = true;
+    return false;
+  }
+  bool clock_out() const { return clock_out_; }
+  bool iterations_out() const { return iterations_out_; }
+  std::uint64_t evaluations() const { return evaluations_; }
+
+ private:
+  std::uint64_t max_iterations_;
+  std::chrono::steady_clock::time_point deadline_;
+  std::uint64_t evaluations_ = 0;
+  bool iterations_out_ = false, clock_out_ = false;
+};
+
+// OMPL's PRM checks for a solution in a second thread that polls every millisecond and grows
+// its roadmap in phases bounded by the clock (ROADMAP_BUILD_TIME), so where it stops depends
+// on the machine even under an iteration budget. This PRM runs in one thread: it alternates
+// growing (kPhaseIterations x 2) and expanding (kPhaseIterations), OMPL's 2:1 ratio counted in
+// iterations, and looks for a solution after every phase.
+class SingleThreadPRM : public og::PRM {
+ public:
+  using og::PRM::PRM;
+
+  ob::PlannerStatus solve(const ob::PlannerTerminationCondition& ptc) override {
+    checkValidity();
+    auto* goal = dynamic_cast<ob::GoalSampleableRegion*>(pdef_->getGoal().get());
+    if (goal == nullptr) return ob::PlannerStatus::UNRECOGNIZED_GOAL_TYPE;
+    while (const ob::State* st = pis_.nextStart())
+      startM_.push_back(addMilestone(si_->cloneState(st)));
+    if (startM_.empty()) return ob::PlannerStatus::INVALID_START;
+    if (!goal->couldSample()) return ob::PlannerStatus::INVALID_GOAL;
+    while (goal->maxSampleCount() > goalM_.size()) {
+      const ob::State* st = pis_.nextGoal();
+      if (st == nullptr) break;
+      goalM_.push_back(addMilestone(si_->cloneState(st)));
+    }
+    if (goalM_.empty()) return ob::PlannerStatus::INVALID_GOAL;
+    if (!sampler_) sampler_ = si_->allocValidStateSampler();
+    if (!simpleSampler_) simpleSampler_ = si_->allocStateSampler();
+    std::vector<ob::State*> work(kRandomBounceSteps);
+    si_->allocStates(work);
+    bestCost_ = opt_->infiniteCost();
+    ob::PathPtr solution;
+    bool satisfied = false, grow = true;
+    while (!satisfied && !ptc) {
+      ob::IterationTerminationCondition phase(grow ? 2 * kPhaseIterations : kPhaseIterations);
+      const ob::PlannerTerminationCondition bounded = ob::plannerOrTerminationCondition(ptc, phase);
+      if (grow) {
+        growRoadmap(bounded, work[0]);
+      } else {
+        expandRoadmap(bounded, work);
+      }
+      grow = !grow;
+      satisfied = maybeConstructSolution(startM_, goalM_, solution);
+    }
+    si_->freeStates(work);
+    if (solution) {
+      ob::PlannerSolution psol(solution);
+      psol.setPlannerName(getName());
+      psol.setOptimized(opt_, bestCost_, satisfied);
+      pdef_->addSolutionPath(psol);
+      return ob::PlannerStatus::EXACT_SOLUTION;
+    }
+    const ob::Cost diff = constructApproximateSolution(startM_, goalM_, solution);
+    if (!opt_->isFinite(diff)) return ob::PlannerStatus::TIMEOUT;
+    pdef_->addSolutionPath(solution, true, diff.value(), getName());
+    return ob::PlannerStatus::APPROXIMATE_SOLUTION;
+  }
+
+ private:
+  static constexpr unsigned kPhaseIterations = 50;
+  static constexpr unsigned kRandomBounceSteps = 5;  // PRM.cpp's own
+};
+
+// OMPL's PathSimplifier::simplify, with each step's work fixed instead of bounded by the clock:
+// per round, shortcutting and connecting to a better goal (up to 5 times while they improve),
+// B-spline smoothing (3 subdivisions), a repair pass, vertex reduction and collapsing of close
+// vertices (reduction repeated up to 5 times while it helps), a repair pass; rounds stop early
+// when vertex reduction no longer helps. The same path and seed give the same result; `safety`
+// (the clock) is checked between steps. Returns the rounds run.
+int simplify_path(og::PathSimplifier& simplifier, og::PathGeometric& path, int rounds,
+                  const std::function<bool()>& safety) {
+  const ob::PlannerTerminationCondition never = ob::plannerNonTerminatingCondition();
+  int done = 0;
+  for (; done < rounds && path.getStateCount() >= 3; ++done) {
+    for (int k = 0; k < 5; ++k) {
+      const bool shortcut = simplifier.shortcutPath(path);
+      const bool better_goal = simplifier.findBetterGoal(path, never);
+      if (!(shortcut || better_goal) || safety()) break;
+    }
+    if (safety()) break;
+    simplifier.smoothBSpline(path, 3, path.length() / 100.0);
+    path.checkAndRepair(ompl::magic::MAX_VALID_SAMPLE_ATTEMPTS);
+    if (safety()) break;
+    bool more = simplifier.reduceVertices(path);
+    simplifier.collapseCloseVertices(path);
+    for (int k = 0; k < 5 && more && !safety(); ++k) more = simplifier.reduceVertices(path);
+    path.checkAndRepair(ompl::magic::MAX_VALID_SAMPLE_ATTEMPTS);
+    if (!more) {
+      ++done;
+      break;
+    }
+  }
+  return done;
+}
+
+using Factory = std::function<ob::PlannerPtr(const ob::SpaceInformationPtr&)>;
+
+const std::map<std::string, Factory>& factories() {
+  static const std::map<std::string, Factory> f = {
+      {"BiEST", [](auto si) { return std::make_shared<og::BiEST>(si); }},
+      {"BITstar", [](auto si) { return std::make_shared<og::BITstar>(si); }},
+      {"BKPIECE1", [](auto si) { return std::make_shared<og::BKPIECE1>(si); }},
+      {"EST", [](auto si) { return std::make_shared<og::EST>(si); }},
+      {"KPIECE1", [](auto si) { return std::make_shared<og::KPIECE1>(si); }},
+      {"LazyPRM", [](auto si) { return std::make_shared<og::LazyPRM>(si); }},
+      {"PRM", [](auto si) { return std::make_shared<SingleThreadPRM>(si); }},
+      {"RRT", [](auto si) { return std::make_shared<og::RRT>(si); }},
+      {"RRTConnect", [](auto si) { return std::make_shared<og::RRTConnect>(si); }},
+      {"RRTstar", [](auto si) { return std::make_shared<og::RRTstar>(si); }},
+      {"SBL", [](auto si) { return std::make_shared<og::SBL>(si); }},
+  };
+  return f;
 }
 
 }  // namespace
@@ -155,10 +278,13 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   if (factory == factories().end())
     return fail(core::PlanStatus::kInvalidInput, "unknown planner '" + o.planner.name + "'");
   if (n == 0 || goals.empty()) return fail(core::PlanStatus::kInvalidInput, "no joints or no goal");
-  if (!(o.time_limit_s > 0) || !(o.motion_resolution > 0 && o.motion_resolution < 1) ||
-      o.seed == 0 || !(o.simplify_time_s >= 0) || !(o.clearance_m >= 0 && o.clearance_m < 1)) {
+  if (!(o.time_limit_s > 0 && o.time_limit_s <= kMaxTimeLimitS) ||
+      !(o.simplify_time_s > 0 && o.simplify_time_s <= kMaxTimeLimitS) ||
+      !(o.motion_resolution > 0 && o.motion_resolution < 1) || o.seed == 0 ||
+      o.simplify_rounds < 0 || !(o.clearance_m >= 0 && o.clearance_m < 1)) {
     return fail(core::PlanStatus::kInvalidInput,
-                "time limit, resolution and seed must be positive, clearance in [0, 1) m");
+                "time limits must be in (0, 86400] s, resolution in (0, 1), seed positive, "
+                "simplification rounds 0 or more, clearance in [0, 1) m");
   }
   std::vector<double> lo(n), hi(n), start(n);
   for (size_t i = 0; i < n; ++i) {
@@ -301,16 +427,16 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   planner->setup();
 
   const std::uint64_t checks_before = checker.checks();
-  ob::PlannerTerminationCondition ptc = ob::timedPlannerTerminationCondition(o.time_limit_s);
-  std::unique_ptr<ob::IterationTerminationCondition> iterations;
-  if (o.max_iterations > 0) {
-    iterations = std::make_unique<ob::IterationTerminationCondition>(o.max_iterations);
-    ptc = ob::plannerOrTerminationCondition(ptc, *iterations);
-  }
+  Budget budget(o.max_iterations, o.time_limit_s);
+  const ob::PlannerTerminationCondition ptc([&budget] { return budget(); });
   const auto t_plan = std::chrono::steady_clock::now();
   const ob::PlannerStatus status = planner->solve(ptc);
   result.planning_time_s = seconds_since(t_plan);
   result.plan_calls = 1;
+  result.planner_iterations = budget.evaluations();
+  // The clock decided when it stopped the planner: always for a planner that runs to its limit,
+  // and for one that stops at a solution when it had none yet.
+  result.planning_hit_time_limit = budget.clock_out();
   ob::PlannerData data(si);
   planner->getPlannerData(data);
   result.graph_states = data.numVertices();
@@ -322,7 +448,13 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     result.status = core::PlanStatus::kExactSolution;
   } else if (status == ob::PlannerStatus::TIMEOUT || status == ob::PlannerStatus::UNKNOWN) {
     result.status = core::PlanStatus::kTimeout;
-    result.message = "no path within " + std::to_string(o.time_limit_s) + " s";
+    char buf[120];
+    if (budget.iterations_out()) {
+      std::snprintf(buf, sizeof buf, "no path within %u iterations", o.max_iterations);
+    } else {
+      std::snprintf(buf, sizeof buf, "no path within %g s", o.time_limit_s);
+    }
+    result.message = buf;
   } else if (status == ob::PlannerStatus::INVALID_START) {
     result.status = core::PlanStatus::kInvalidStart;
   } else if (status == ob::PlannerStatus::INVALID_GOAL ||
@@ -336,17 +468,23 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   if (result.status == core::PlanStatus::kExactSolution ||
       result.status == core::PlanStatus::kApproximateSolution) {
     auto path = pdef->getSolutionPath()->as<og::PathGeometric>();
-    if (o.simplify_time_s > 0 && result.status == core::PlanStatus::kExactSolution) {
+    if (o.simplify_rounds > 0 && result.status == core::PlanStatus::kExactSolution) {
       const auto t_simplify = std::chrono::steady_clock::now();
+      const og::PathGeometric planned(*path);
       og::PathSimplifier simplifier(si, pdef->getGoal());
-      const bool converged = simplifier.simplify(*path, o.simplify_time_s);
+      Budget safety(0, o.simplify_time_s);
+      simplify_path(simplifier, *path, o.simplify_rounds, [&safety] { return safety(); });
+      result.simplification_hit_time_limit = safety.clock_out();
+      // A repair pass may leave a path that still touches an obstacle: keep the planner's.
+      if (!path->check()) *path = planned;
       result.simplification_time_s = seconds_since(t_simplify);
-      result.simplification_hit_time_limit =
-          !converged && result.simplification_time_s >= o.simplify_time_s;
     }
     for (size_t k = 0; k < path->getStateCount(); ++k) {
       const auto* v = path->getState(k)->as<ob::RealVectorStateSpace::StateType>()->values;
-      result.path.emplace_back(v, v + n);
+      std::vector<double> q(v, v + n);
+      // Within the joint limits exactly (goals may lie up to 1e-9 outside).
+      for (size_t i = 0; i < n; ++i) q[i] = std::clamp(q[i], lo[i], hi[i]);
+      result.path.push_back(std::move(q));
     }
     // Which goal the path ends at.
     for (size_t k = 0; k < goal_index_of_state.size(); ++k) {

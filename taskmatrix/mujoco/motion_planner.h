@@ -1,12 +1,15 @@
 // Collision-free motion planning with OMPL's geometric planners over a set of robot joints,
 // validity from ValidityChecker, motions checked at a configurable resolution, path
-// simplification bounded by time, and a status in which only an exact solution succeeds.
+// simplification bounded by work, paths within the joint limits, and a status in which only an
+// exact solution succeeds.
 //
 // Determinism: OMPL seeds every RNG from one process-global generator. `plan` reseeds it
 // with the request's seed and holds a process-wide lock while planning, so the same request
-// and seed give the same path bit for bit whatever was planned before in the process.
-// Planners that run until their time limit (RRTstar, PRM, BITstar, ...) are deterministic
-// only when stopped by `max_iterations` rather than by the clock.
+// and seed give the same path bit for bit whatever was planned before in the process. Under
+// an iteration budget (PlanOptions::max_iterations) the result does not depend on the machine
+// or its load either: simplification is bounded by rounds, PRM runs in one thread
+// (OMPL's polls for solutions from a second thread), and the clock bounds are safety nets
+// whose firing the result reports (planning_hit_time_limit, simplification_hit_time_limit).
 #pragma once
 
 #include <cstdint>

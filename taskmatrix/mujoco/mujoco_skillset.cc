@@ -521,7 +521,9 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
     any_planned = true;
     total.planning_time_s += r.planning_time_s;
     total.simplification_time_s += r.simplification_time_s;
+    total.planning_hit_time_limit |= r.planning_hit_time_limit;
     total.simplification_hit_time_limit |= r.simplification_hit_time_limit;
+    total.planner_iterations += r.planner_iterations;
     total.collision_checks += r.collision_checks;
     total.graph_states += r.graph_states;
     total.plan_calls += r.plan_calls;
@@ -644,7 +646,10 @@ core::PlanResult MujocoSkillset::note_plan(const char* kind, core::PlanResult re
   r.planner_runs = result.plan_calls;
   r.planning_time_s = result.planning_time_s;
   r.simplification_time_s = result.simplification_time_s;
+  r.planning_hit_time_limit = result.planning_hit_time_limit;
   r.simplification_hit_time_limit = result.simplification_hit_time_limit;
+  r.planner_iterations = result.planner_iterations;
+  r.path_digest = path_digest(result.path);
   r.ik_time_s = result.ik_time_s;
   r.collision_checks = result.collision_checks;
   r.path_states = static_cast<int>(result.path.size());

@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "taskmatrix/io/text_file.h"
+
 namespace taskmatrix::mujoco {
 
 struct OffscreenRenderer::Impl {
@@ -118,10 +120,11 @@ DepthImage OffscreenRenderer::render_depth(const mjModel* model, mjData* data,
 
 void write_png(const std::filesystem::path& file, const RgbImage& image) {
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  const unsigned err =
-      lodepng::encode(file.string(), image.pixels, image.width, image.height, LCT_RGB, 8);
+  std::vector<unsigned char> png;
+  const unsigned err = lodepng::encode(png, image.pixels, image.width, image.height, LCT_RGB, 8);
   if (err)
-    throw std::runtime_error(file.string() + ": cannot write PNG: " + lodepng_error_text(err));
+    throw std::runtime_error(file.string() + ": cannot encode PNG: " + lodepng_error_text(err));
+  io::write_file_atomically(file, {reinterpret_cast<const char*>(png.data()), png.size()});
 }
 
 void write_depth_png(const std::filesystem::path& file, const DepthImage& image) {
@@ -140,9 +143,11 @@ void write_depth_png(const std::filesystem::path& file, const DepthImage& image)
     grey[i] = static_cast<unsigned char>(std::lround(255.0f - 215.0f * t));  // near 255, far 40
   }
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  const unsigned err = lodepng::encode(file.string(), grey, image.width, image.height, LCT_GREY, 8);
+  std::vector<unsigned char> png;
+  const unsigned err = lodepng::encode(png, grey, image.width, image.height, LCT_GREY, 8);
   if (err)
-    throw std::runtime_error(file.string() + ": cannot write PNG: " + lodepng_error_text(err));
+    throw std::runtime_error(file.string() + ": cannot encode PNG: " + lodepng_error_text(err));
+  io::write_file_atomically(file, {reinterpret_cast<const char*>(png.data()), png.size()});
 }
 
 }  // namespace taskmatrix::mujoco

@@ -20,8 +20,9 @@ namespace {
 
 std::filesystem::path required_file(const std::filesystem::path& dir, const char* name) {
   const std::filesystem::path p = dir / name;
-  if (!std::filesystem::is_directory(dir)) throw InputError(dir.string(), "", "no such folder");
-  if (!std::filesystem::is_regular_file(p)) throw InputError(p.string(), "", "missing");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) throw InputError(dir.string(), "", "no such folder");
+  if (!std::filesystem::is_regular_file(p, ec)) throw InputError(p.string(), "", "missing");
   return p;
 }
 

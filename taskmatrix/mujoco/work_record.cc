@@ -1,6 +1,8 @@
 #include "taskmatrix/mujoco/work_record.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 
 namespace taskmatrix::mujoco {
 
@@ -14,6 +16,20 @@ T sum_over(const std::vector<PlanCallRecord>& plans, T PlanCallRecord::*field) {
 }
 
 }  // namespace
+
+std::string path_digest(const std::vector<std::vector<double>>& path) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const std::vector<double>& q : path) {
+    for (double v : q) {
+      unsigned char bytes[sizeof v];
+      std::memcpy(bytes, &v, sizeof v);
+      for (unsigned char b : bytes) h = (h ^ b) * 0x100000001b3ULL;
+    }
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
 
 double WorkRecord::planning_time_s() const {
   return sum_over(plans, &PlanCallRecord::planning_time_s);

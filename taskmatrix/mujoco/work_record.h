@@ -18,12 +18,20 @@ struct PlanCallRecord {
   int planner_runs = 0;        // OMPL solves behind the call (one per pose tried)
   double planning_time_s = 0;  // OMPL solve, wall clock
   double simplification_time_s = 0;
+  // A clock safety net decided the plan (core::PlanResult): it may differ under load.
+  bool planning_hit_time_limit = false;
   bool simplification_hit_time_limit = false;
+  std::uint64_t planner_iterations = 0;
   double ik_time_s = 0;  // inverse kinematics for pose goals
   std::uint64_t collision_checks = 0;
   double path_length = 0;  // of the returned path, in joint space (rad and m)
   int path_states = 0;
+  // FNV-1a (64 bit, hex) of the returned path's waypoints as IEEE doubles: equal digests,
+  // the same path bit for bit.
+  std::string path_digest;
 };
+
+std::string path_digest(const std::vector<std::vector<double>>& path);
 
 struct WorkRecord {
   std::vector<PlanCallRecord> plans;

@@ -25,7 +25,9 @@ namespace taskmatrix::programs {
 
 namespace {
 
-constexpr double kScanPeriod = 0.2;  // s between scans while moving
+constexpr double kScanPeriod = 0.2;      // s between scans while moving
+constexpr double kMaxCells = 1e6;        // a 10 m x 10 m region in 1 cm cells
+constexpr double kMaxCoordinate = 1000;  // m
 
 struct Region {
   double x0, x1, y0, y1, z;
@@ -67,8 +69,16 @@ class Explore final : public core::TaskProgram {
   void start(core::ProgramContext& ctx) override {
     failure_ = make_region(ctx);
     if (!failure_.empty()) return;
-    nx_ = std::max(1, static_cast<int>(std::round((region_.x1 - region_.x0) / cell_)));
-    ny_ = std::max(1, static_cast<int>(std::round((region_.y1 - region_.y0) / cell_)));
+    // Cells are counted in doubles first: a wide region with small cells must not overflow.
+    const double cx = std::max(1.0, std::round((region_.x1 - region_.x0) / cell_));
+    const double cy = std::max(1.0, std::round((region_.y1 - region_.y0) / cell_));
+    if (!(cx * cy <= kMaxCells)) {
+      failure_ = "invalid_input: the region holds " + number(cx * cy) + " cells of " +
+                 number(cell_) + " m (at most " + number(kMaxCells) + ")";
+      return;
+    }
+    nx_ = static_cast<int>(cx);
+    ny_ = static_cast<int>(cy);
     observed_.assign(static_cast<size_t>(nx_) * ny_, 0);
     missed_.assign(observed_.size(), 0);
     start_time_ = ctx.time();
@@ -122,6 +132,9 @@ class Explore final : public core::TaskProgram {
         }
       }
       if (!(v[0] < v[1] && v[2] < v[3])) return "invalid_input: bounds must have min < max";
+      if (!std::all_of(v, v + 5, [](double x) { return std::abs(x) <= kMaxCoordinate; })) {
+        return "invalid_input: bounds must lie within 1000 m of the origin";
+      }
       region_ = {v[0], v[1], v[2], v[3], v[4]};
       return "";
     }

@@ -268,7 +268,7 @@ TEST_F(BenchCompareTest, BadInputIsOneLineNamingTheFile) {
     std::string label, text, expected;  // expected: in the message after the file name
   };
   const std::vector<Case> cases = {
-      {"malformed", "{\"benchmarks\": [", ": not JSON: "},
+      {"malformed", "{\"benchmarks\": [", ":1: not JSON: "},
       {"no_array", "{\"context\": {}}", ": benchmarks: missing or not an array"},
       {"nan_time",
        "{\"benchmarks\": [{\"name\": \"BM_A\", \"run_type\": \"iteration\", \"real_time\": NaN, "

@@ -388,7 +388,8 @@ TEST_F(CompareCli, BadInputIsOneClearLine) {
   const auto bad = write_run("bad", broken);
   const test::CommandResult no_success = compare("'" + base.string() + "' '" + bad.string() + "'");
   EXPECT_EQ(no_success.exit_code, 2);
-  EXPECT_NE(no_success.err.find("bad/trials.jsonl: line 1: success: missing"), std::string::npos)
+  EXPECT_NE(no_success.err.find("bad/trials.jsonl:1: success: is required but missing"),
+            std::string::npos)
       << no_success.err;
 
   const auto other = write_run(

@@ -169,6 +169,109 @@ TEST_P(PlanOnBothRobots, EveryPlannerByNameSolvesAnOpenArmProblem) {
   }
 }
 
+TEST_P(PlanOnBothRobots, SimplifiedPathsAreBoundedByWorkAndStayWithinTheJointLimits) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  worker.apply_layout(scene->make_layout(12, 5));
+  worker.reset_to_start();
+  const ChainIndex& arm = scene->chain("right_arm");
+  MotionPlanner planner(*scene, worker, arm.joints);
+  int solved = 0;
+  for (std::uint64_t k = 0; k < 6; ++k) {
+    const std::vector<double> goal = valid_sample(*scene, worker, arm, 300 + k);
+    PlanOptions options;
+    options.seed = static_cast<std::uint32_t>(7 + k);
+    const core::PlanResult r = planner.plan({goal}, options);
+    if (!r.success()) continue;
+    ++solved;
+    EXPECT_FALSE(r.simplification_hit_time_limit);
+    EXPECT_FALSE(r.planning_hit_time_limit);
+    for (const std::vector<double>& q : r.path) {
+      for (size_t i = 0; i < q.size(); ++i) {
+        EXPECT_GE(q[i], arm.lower[i]) << "waypoint below joint " << i << "'s limit";
+        EXPECT_LE(q[i], arm.upper[i]) << "waypoint above joint " << i << "'s limit";
+      }
+    }
+    // However long the simplification took, the same request gives the same path.
+    const core::PlanResult again = planner.plan({goal}, options);
+    EXPECT_EQ(r.path, again.path);
+    EXPECT_EQ(r.collision_checks, again.collision_checks);
+    // Without simplification the path is the planner's own: simplification shortened it.
+    PlanOptions raw = options;
+    raw.simplify_rounds = 0;
+    const core::PlanResult unsimplified = planner.plan({goal}, raw);
+    ASSERT_TRUE(unsimplified.success());
+    auto length = [](const std::vector<std::vector<double>>& path) {
+      double total = 0;
+      for (size_t w = 1; w < path.size(); ++w) {
+        double sq = 0;
+        for (size_t i = 0; i < path[w].size(); ++i) sq += std::pow(path[w][i] - path[w - 1][i], 2);
+        total += std::sqrt(sq);
+      }
+      return total;
+    };
+    EXPECT_LE(length(r.path), length(unsimplified.path) * 1.001);
+  }
+  EXPECT_GE(solved, 4);
+  // A clock safety net that fires is reported, and the path is still valid.
+  const std::vector<double> goal = valid_sample(*scene, worker, arm, 300);
+  PlanOptions rushed;
+  rushed.simplify_time_s = 1e-9;
+  const core::PlanResult r = planner.plan({goal}, rushed);
+  if (r.success() && r.path.size() > 2) {
+    EXPECT_TRUE(r.simplification_hit_time_limit);
+  }
+}
+
+TEST_P(PlanOnBothRobots, AnytimePlannersRepeatUnderAnIterationBudgetAndReportTheClock) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  worker.apply_layout(scene->make_layout(8, 3));
+  worker.reset_to_start();
+  const ChainIndex& arm = scene->chain("left_arm");
+  const std::vector<double> goal = valid_sample(*scene, worker, arm, 11);
+  MotionPlanner planner(*scene, worker, arm.joints);
+  for (const char* name : {"PRM", "RRTstar", "BITstar"}) {
+    PlanOptions options;
+    options.planner.name = name;
+    options.max_iterations = 1500;
+    options.time_limit_s = 60;  // a safety net only
+    options.seed = 5;
+    const core::PlanResult a = planner.plan({goal}, options);
+    const core::PlanResult b = planner.plan({goal}, options);
+    EXPECT_EQ(a.status, b.status) << name;
+    EXPECT_EQ(a.path, b.path) << name;
+    EXPECT_EQ(a.collision_checks, b.collision_checks) << name;
+    EXPECT_EQ(a.planner_iterations, b.planner_iterations) << name;
+    EXPECT_FALSE(a.planning_hit_time_limit) << name;
+    // The budget stops them (the evaluation that stopped it counted), unless they are done
+    // earlier: OMPL's PRM (without PRM*'s objective) at its first path, looked for after every
+    // roadmap phase; BITstar when its path cannot be improved (a straight line).
+    EXPECT_LE(a.planner_iterations, 1501u) << name;
+    if (std::string(name) == "RRTstar") {
+      EXPECT_EQ(a.planner_iterations, 1501u);  // never done
+    }
+    if (a.planner_iterations < 1501u) continue;
+    // By the clock alone an anytime planner stops when time is up, and says so.
+    options.max_iterations = 0;
+    options.time_limit_s = 0.05;
+    EXPECT_TRUE(planner.plan({goal}, options).planning_hit_time_limit) << name;
+  }
+  // An iteration budget too small for RRTConnect: a timeout that names the budget.
+  PlanOptions tiny;
+  tiny.max_iterations = 1;
+  const core::PlanResult r = planner.plan({goal}, tiny);
+  if (!r.success()) {
+    EXPECT_EQ(r.status, core::PlanStatus::kTimeout);
+    EXPECT_EQ(r.message, "no path within 1 iterations");
+    EXPECT_FALSE(r.planning_hit_time_limit);
+  }
+  // Time limits beyond a day overflow OMPL's deadline: refused.
+  PlanOptions huge;
+  huge.time_limit_s = 1e10;
+  EXPECT_EQ(planner.plan({goal}, huge).status, core::PlanStatus::kInvalidInput);
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, PlanOnBothRobots, ::testing::Values("tallbot", "minibot"));
 
 class IkOnBothRobots : public ::testing::TestWithParam<std::string> {};

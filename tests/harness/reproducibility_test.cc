@@ -1,0 +1,141 @@
+// A trial's result depends on its id alone, whatever the machine's load: the same trials run
+// twice through the CLI, the second time with two busy loops competing for the cores, give
+// the same outcomes, statuses, failure reasons, planned paths (bit for bit), work counts
+// (collision checks, planner iterations, IK calls, control periods) and executed trajectories,
+// and no clock bound decides any of them. The trials: pickup, putdown and vacuum on every robot
+// of the catalog in the kitchen (RRTConnect, whose paths are simplified), and a reach with PRM
+// (its roadmap grown under the iteration budget). In its own test program: it takes minutes.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <map>
+
+#include "harness/trajectory_file.h"
+#include "harness/trial_record.h"
+#include "tests/test_support.h"
+
+namespace taskmatrix::harness {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Processes that spin until destroyed.
+class BusyLoops {
+ public:
+  explicit BusyLoops(int n) {
+    for (int i = 0; i < n; ++i) {
+      const pid_t pid = fork();
+      if (pid == 0) {
+        volatile unsigned long x = 0;
+        for (;;) x = x + 1;
+      }
+      pids_.push_back(pid);
+    }
+  }
+  ~BusyLoops() {
+    for (pid_t pid : pids_) {
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+  }
+  BusyLoops(const BusyLoops&) = delete;
+  BusyLoops& operator=(const BusyLoops&) = delete;
+
+ private:
+  std::vector<pid_t> pids_;
+};
+
+std::map<std::string, nlohmann::json> trials_of(const fs::path& dir) {
+  std::map<std::string, nlohmann::json> out;
+  for (nlohmann::json& t : read_trials_file(dir / "trials.jsonl").trials) {
+    out[t["trial_id"].get<std::string>()] = std::move(t);
+  }
+  return out;
+}
+
+// The CLI as a user runs it (exit status; its stderr is in DIR.err).
+int run_cli(const std::string& args, const fs::path& err) {
+  const std::string command = "TASKMATRIX_ROOT='" + std::string(TASKMATRIX_TEST_ROOT) +
+                              "' timeout 280 " + TASKMATRIX_CLI + " " + args + " >/dev/null 2>'" +
+                              err.string() + "'";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string robots_list() {
+  std::string list;
+  for (const std::string& r : test::catalog().robots()) list += (list.empty() ? "" : ", ") + r;
+  return "[" + list + "]";
+}
+
+TEST(Reproducibility, TrialsRepeatBitForBitWithTwoBusyLoopsCompetingForTheCores) {
+  char tmpl[] = "/tmp/taskmatrix_repro_XXXXXX";
+  const fs::path dir = mkdtemp(tmpl);
+  const fs::path programs = fs::path(TASKMATRIX_TEST_ROOT) / "scenarios" / "programs";
+  std::ofstream(dir / "reach_prm.yaml")
+      << "name: reach_prm\nprogram: reach\nparams: {object: cup}\nrobots: [minibot]\n"
+         "environments: [kitchen]\nobstacles: {count: 8}\nplanners: [PRM]\n"
+         "planner_budget: iterations\nplan_iterations: 3000\nlayout_seed: 3\ntime_limit_s: 30\n"
+         "success: graspable(cup)\n";
+  std::ofstream(dir / "suite.yaml")
+      << "suite: repro\nscenarios: [" << (programs / "pickup.yaml").string() << ", "
+      << (programs / "putdown.yaml").string() << ", " << (programs / "vacuum.yaml").string()
+      << ", reach_prm.yaml]\nrobots: " << robots_list() << "\nenvironments: [kitchen]\ntrials: 1\n";
+  const std::string run =
+      "run " + (dir / "suite.yaml").string() + " --jobs 2 --progress off --out ";
+  ASSERT_EQ(run_cli(run + (dir / "quiet").string(), dir / "quiet.err"), 0)
+      << slurp(dir / "quiet.err");
+  int busy = 0;
+  {
+    const BusyLoops loops(2);
+    busy = run_cli(run + (dir / "busy").string(), dir / "busy.err");
+  }
+  ASSERT_EQ(busy, 0) << slurp(dir / "busy.err");
+
+  const auto a = trials_of(dir / "quiet"), b = trials_of(dir / "busy");
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.size(), 3 * test::catalog().robots().size() + 1);
+  int successes = 0, plans = 0;
+  for (const auto& [id, ta] : a) {
+    ASSERT_TRUE(b.count(id)) << id;
+    const nlohmann::json& tb = b.at(id);
+    for (const nlohmann::json* t : {&ta, &tb}) {
+      EXPECT_TRUE(clock_bounds_hit(*t).empty())
+          << id << ": a clock bound decided the trial: " << (*t)["clock_bound_hit"].dump();
+    }
+    // Everything but the machine's own measurements, the plans' path digests included.
+    nlohmann::json ca = without_timing(ta), cb = without_timing(tb);
+    for (nlohmann::json* c : {&ca, &cb}) c->erase("trajectory");
+    EXPECT_EQ(ca.dump(), cb.dump()) << id;
+    successes += ta["success"].get<bool>();
+    for (const nlohmann::json& p : ta["plans"]) {
+      EXPECT_FALSE(p["path_digest"].get<std::string>().empty());
+      ++plans;
+    }
+    // The executed motion: every recorded position, bit for bit.
+    const TrajectoryFile ra =
+        read_trajectory_file(dir / "quiet" / ta["trajectory"].get<std::string>());
+    const TrajectoryFile rb =
+        read_trajectory_file(dir / "busy" / tb["trajectory"].get<std::string>());
+    EXPECT_EQ(ra.recording.times, rb.recording.times) << id;
+    EXPECT_EQ(ra.recording.qpos, rb.recording.qpos) << id;
+  }
+  // The trials did real work: most succeed, and they planned.
+  EXPECT_GE(successes, static_cast<int>(a.size()) / 2);
+  EXPECT_GE(plans, static_cast<int>(a.size()) * 2);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
+}  // namespace
+}  // namespace taskmatrix::harness
