@@ -156,6 +156,13 @@ double read_wall_limit(const io::YamlNode& node) {
   return v;
 }
 
+std::string read_execution(const io::YamlNode& node) {
+  const std::string v = node.as_string();
+  if (v != "physics" && v != "kinematic")
+    node.fail("must be physics or kinematic, not '" + v + "'");
+  return v;
+}
+
 int read_trials(const io::YamlNode& node) {
   const int v = node.as_int();
   if (v < 1 || v > 100000) node.fail("must be in 1..100000");
@@ -171,10 +178,11 @@ std::string check_planner(const core::PlannerSpec& spec) {
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
                        core::ProgramRegistry& registry) {
   const io::YamlNode root = io::YamlNode::load_file(file);
-  root.expect_keys({"name", "doc", "program", "machine", "params", "setup", "robots",
-                    "environments", "perception", "obstacles", "planners", "layout_seed", "seed",
-                    "trials", "visitor", "plan_time_limit_s", "time_limit_s", "wall_limit_s",
-                    "success"});
+  root.expect_keys({"name",         "doc",          "program",  "machine",
+                    "params",       "setup",        "robots",   "environments",
+                    "perception",   "obstacles",    "planners", "layout_seed",
+                    "seed",         "trials",       "visitor",  "plan_time_limit_s",
+                    "time_limit_s", "wall_limit_s", "success",  "execution"});
   Scenario s;
   s.file = file;
   s.file_text = io::read_text_file(file);
@@ -215,6 +223,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
       p->fail("must be ground_truth or sensor, not '" + s.perception + "'");
     }
   }
+  if (auto e = root.optional("execution")) s.execution = read_execution(*e);
   if (auto o = root.optional("obstacles")) s.obstacles = read_obstacles(*o);
   if (auto p = root.optional("planners")) s.planners = read_planners(*p);
   if (auto seed = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*seed);
@@ -253,7 +262,7 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     return plan;
   }
   root.expect_keys({"suite", "doc", "scenarios", "trials", "layout_seed", "seed", "planners",
-                    "robots", "environments", "plan_time_limit_s", "wall_limit_s"});
+                    "robots", "environments", "plan_time_limit_s", "wall_limit_s", "execution"});
   plan.suite = true;
   plan.text = io::read_text_file(file);
   plan.name = root.required("suite").as_string();
@@ -284,11 +293,17 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     }
     if (auto n = root.optional("plan_time_limit_s")) s.plan_time_limit_s = n->as_positive_double();
     if (auto n = root.optional("wall_limit_s")) s.wall_limit_s = read_wall_limit(*n);
+    if (auto n = root.optional("execution")) s.execution = read_execution(*n);
   }
   return plan;
 }
 
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
+  if (!overrides.execution.empty() && overrides.execution != "physics" &&
+      overrides.execution != "kinematic") {
+    throw core::InputError("--execution", "",
+                           "must be physics or kinematic, not '" + overrides.execution + "'");
+  }
   std::vector<PlannerConfig> planners;
   for (const std::string& name : overrides.planners) {
     PlannerConfig p{name, {}};
@@ -305,6 +320,7 @@ void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
     if (overrides.trials > 0) s.trials = overrides.trials;
     if (overrides.seed > 0) s.seed = overrides.seed;
     if (!planners.empty()) s.planners = planners;
+    if (!overrides.execution.empty()) s.execution = overrides.execution;
     if (static_cast<std::uint64_t>(s.seed) + static_cast<std::uint64_t>(s.trials) - 1 >
         0xffffffffULL) {
       throw core::InputError("--seed", "",
