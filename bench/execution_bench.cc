@@ -1,9 +1,14 @@
 // One control period (10 ms = 5 MuJoCo steps) of tallbot in the kitchen with 12 obstacles,
 // the left arm following a sinusoid:
 //   BM_ControlPeriod_Raw       ctrl written, 5 x mj_step
-//   BM_ControlPeriod_Skillset  MujocoSkillset::command + advance (computed-torque feed-forward
-//                              per step, an mj_forward at the end so poses and contacts are
-//                              current for the programs)
+//   BM_ControlPeriod_Skillset  MujocoSkillset::command + advance in each execution mode:
+//     /physics            computed-torque feed-forward per step, mj_step2 then mj_step1 so
+//                         poses and contacts are current for the programs, contact pruning
+//                         (large static boxes closed, resting objects asleep)
+//     /physics_unpruned   the same without contact pruning
+//     /kinematic          the commanded configuration set, kinematics, the robot's contacts
+//   counters: contacts_per_pass (contacts per collision detection: per timestep in physics,
+//   per period in kinematic mode) and sim_speed (simulated seconds per second)
 // and the clearance query used for the min_clearance metric:
 //   BM_Clearance_RawWideMargin mj_kinematics + mj_collision with every geom margin at 0.3 m
 //                              (MuJoCo 2.2.2 has no distance query; this is the nearest raw
@@ -11,6 +16,7 @@
 //   BM_Clearance_Skillset      clearance of both arms against everything, cap 0.3 m
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "harness/model_catalog.h"
@@ -20,12 +26,12 @@ namespace {
 
 using namespace taskmatrix;
 
-std::unique_ptr<mujoco::MujocoSkillset> make_skillset() {
+std::unique_ptr<mujoco::MujocoSkillset> make_skillset(mujoco::SimulationOptions options = {}) {
   static const std::shared_ptr<const mujoco::Scene> scene = [] {
     const harness::ModelCatalog catalog(TASKMATRIX_BENCH_ROOT);
     return mujoco::Scene::load(catalog.robot_dir("tallbot"), catalog.environment_dir("kitchen"));
   }();
-  auto skills = std::make_unique<mujoco::MujocoSkillset>(scene);
+  auto skills = std::make_unique<mujoco::MujocoSkillset>(scene, options);
   skills->apply_layout(scene->make_layout(12, 3));
   skills->reset();
   return skills;
@@ -61,15 +67,31 @@ void BM_ControlPeriod_Raw(benchmark::State& state) {
 }
 BENCHMARK(BM_ControlPeriod_Raw)->Unit(benchmark::kMicrosecond);
 
-void BM_ControlPeriod_Skillset(benchmark::State& state) {
-  auto skills = make_skillset();
+void BM_ControlPeriod_Skillset(benchmark::State& state, mujoco::ExecutionMode mode, bool prune) {
+  mujoco::SimulationOptions options;
+  options.execution = mode;
+  options.pruning = {prune, prune};
+  auto skills = make_skillset(options);
   const std::vector<double> rest = skills->configuration({"left_arm"});
+  const long passes = skills->work().contact_passes, contacts = skills->work().contacts;
+  const double t0 = skills->time();
   for (auto _ : state) {
     skills->command({"left_arm"}, arm_target(rest, skills->time()));
     benchmark::DoNotOptimize(skills->advance());
   }
+  state.counters["contacts_per_pass"] =
+      static_cast<double>(skills->work().contacts - contacts) /
+      static_cast<double>(std::max(1L, skills->work().contact_passes - passes));
+  state.counters["sim_speed"] =
+      benchmark::Counter(skills->time() - t0, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_ControlPeriod_Skillset)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ControlPeriod_Skillset, physics, mujoco::ExecutionMode::kPhysics, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ControlPeriod_Skillset, physics_unpruned, mujoco::ExecutionMode::kPhysics,
+                  false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ControlPeriod_Skillset, kinematic, mujoco::ExecutionMode::kKinematic, true)
+    ->Unit(benchmark::kMicrosecond);
 
 void BM_Clearance_RawWideMargin(benchmark::State& state) {
   auto skills = make_skillset();

@@ -1,16 +1,28 @@
 // The scenario runner's cost, on a fixed 16-trial suite (bench/runner_suite.yaml), in the
-// same run:
-//   BM_RunSuite/jobs:N   taskmatrix run with N worker processes (trial files, summaries,
-//                        OMPL log and trajectories written as in a user's run). Counters:
+// same run, in each execution mode:
+//   BM_RunSuite/jobs:N/kinematic:K   taskmatrix run with N worker processes, every scenario's
+//                        execution mode replaced (K = 0: physics, 1: kinematic), trial files,
+//                        summaries, OMPL log and trajectories written as in a user's run.
+//                        Counters:
+//     cpu_s_per_trial     CPU seconds (user + system) of the run's worker processes per finished
+//                         trial: the cost of a trial, whatever else the machine runs
 //     trials_per_s        finished trials per second of the run's wall time
 //     overhead_fraction   sum over trials of (worker wall - time inside the executive) over
 //                         the sum of worker wall times: what the harness adds per trial
 //                         (fork, worker skillset and layout, success check, result line,
 //                         trajectory file)
-//     work_fraction       (planning + simplification + IK + simulation stepping) over the
-//                         worker wall time: the raw MuJoCo/OMPL work in a trial
+//     work_fraction       (planning + simplification + simulation stepping) over the worker wall
+//                         time: the raw MuJoCo/OMPL work in a trial
+//     ik_fraction         the project's own IK loop (programs' IK and IK for pose goals) over the
+//                         worker wall time, reported apart from the raw work
+//     sim_speed           simulated seconds per second of stepping (simulation, feed-forward,
+//                         the visitor, held objects)
+//     contacts_per_pass   contacts per collision detection (per timestep in physics, per
+//                         control period in kinematic mode)
+//     succeeded           trials that succeeded
 // Two jobs should give at least 1.6x the trials per second of one (2 cores).
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -25,6 +37,13 @@ namespace {
 
 using namespace taskmatrix;
 
+double children_cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_CHILDREN, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 void BM_RunSuite(benchmark::State& state) {
   const harness::ModelCatalog catalog(TASKMATRIX_BENCH_ROOT);
   char tmpl[] = "/tmp/taskmatrix_bench_run_XXXXXX";
@@ -34,32 +53,52 @@ void BM_RunSuite(benchmark::State& state) {
       std::filesystem::path(TASKMATRIX_BENCH_ROOT) / "bench" / "runner_suite.yaml";
   options.out = out;
   options.jobs = static_cast<int>(state.range(0));
+  options.overrides.execution = state.range(1) ? "kinematic" : "physics";
   options.progress = harness::RunJobOptions::Progress::kOff;
-  double trials = 0, seconds = 0, wall = 0, overhead = 0, work = 0;
+  double trials = 0, seconds = 0, cpu = 0, wall = 0, overhead = 0, work = 0, ik = 0;
+  double sim = 0, stepping = 0, contacts = 0, passes = 0, succeeded = 0;
   for (auto _ : state) {
     core::ProgramRegistry registry;
     programs::register_programs(registry);
     std::ostringstream sink;
+    const double cpu0 = children_cpu_s();
     const auto t0 = std::chrono::steady_clock::now();
     const harness::RunJobResult r = harness::run_job(catalog, registry, options, sink, sink);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    cpu += children_cpu_s() - cpu0;
     trials += r.finished;
     for (const nlohmann::json& t : harness::read_trials_file(out / "trials.jsonl").trials) {
       wall += t["wall_time_s"].get<double>();
       overhead += t["overhead_s"].get<double>();
       work += t["planning_time_s"].get<double>() + t["simplification_time_s"].get<double>() +
-              t["ik_time_s"].get<double>() + t["stepping_wall_s"].get<double>();
+              t["stepping_wall_s"].get<double>();
+      ik += t["ik_time_s"].get<double>();
+      sim += t["sim_time_s"].get<double>();
+      stepping += t["stepping_wall_s"].get<double>();
+      passes += t["control_periods"].get<double>();
+      if (t["contacts_per_pass"].is_number()) {
+        contacts += t["contacts_per_pass"].get<double>() * t["control_periods"].get<double>();
+      }
+      succeeded += t["success"].get<bool>() ? 1 : 0;
     }
   }
   std::filesystem::remove_all(out);
+  const double n = static_cast<double>(state.iterations());
+  state.counters["cpu_s_per_trial"] = cpu / trials;
   state.counters["trials_per_s"] = trials / seconds;
   state.counters["overhead_fraction"] = overhead / wall;
   state.counters["work_fraction"] = work / wall;
+  state.counters["ik_fraction"] = ik / wall;
+  state.counters["sim_speed"] = sim / stepping;
+  state.counters["contacts_per_pass"] = contacts / passes;
+  state.counters["succeeded"] = succeeded / n;
 }
 BENCHMARK(BM_RunSuite)
-    ->ArgName("jobs")
-    ->Arg(1)
-    ->Arg(2)
+    ->ArgNames({"jobs", "kinematic"})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Args({2, 0})
+    ->Args({2, 1})
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();

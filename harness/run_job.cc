@@ -372,6 +372,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     }
     j["wall_time_s"] = o.wall_s;
     j["peak_memory_mb"] = o.peak_memory_mb;
+    j["cpu_time_s"] = o.cpu_s;
     // What the harness adds to the trial: the worker's wall time outside the executive
     // (fork, the worker's skillset and layout, judging success, the result and trajectory).
     j["overhead_s"] = j["executive_wall_s"].is_number()

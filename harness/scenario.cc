@@ -168,6 +168,13 @@ double read_wall_limit(const io::YamlNode& node) {
   return v;
 }
 
+std::string read_execution(const io::YamlNode& node) {
+  const std::string v = node.as_string();
+  if (v != "physics" && v != "kinematic")
+    node.fail("must be physics or kinematic, not '" + v + "'");
+  return v;
+}
+
 int read_trials(const io::YamlNode& node) {
   const int v = node.as_int();
   if (v < 1 || v > 100000) node.fail("must be in 1..100000");
@@ -203,7 +210,8 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
                     "plan_time_limit_s",
                     "time_limit_s",
                     "wall_limit_s",
-                    "success"});
+                    "success",
+                    "execution"});
   Scenario s;
   s.file = file;
   s.file_text = io::read_text_file(file);
@@ -243,6 +251,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
       p->fail("must be ground_truth or sensor, not '" + s.perception + "'");
     }
   }
+  if (auto e = root.optional("execution")) s.execution = read_execution(*e);
   if (auto o = root.optional("obstacles")) s.obstacles = read_obstacles(*o);
   if (auto p = root.optional("planners")) s.planners = read_planners(*p);
   if (auto seed = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*seed);
@@ -284,7 +293,7 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
   }
   root.expect_keys({"suite", "doc", "scenarios", "trials", "layout_seed", "seed", "planners",
                     "robots", "environments", "planner_budget", "plan_iterations",
-                    "plan_time_limit_s", "wall_limit_s"});
+                    "plan_time_limit_s", "wall_limit_s", "execution"});
   plan.suite = true;
   plan.text = io::read_text_file(file);
   plan.name = root.required("suite").as_string();
@@ -320,11 +329,17 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     if (auto n = root.optional("plan_iterations")) s.plan_iterations = read_plan_iterations(*n);
     if (auto n = root.optional("plan_time_limit_s")) s.plan_time_limit_s = read_plan_time_limit(*n);
     if (auto n = root.optional("wall_limit_s")) s.wall_limit_s = read_wall_limit(*n);
+    if (auto n = root.optional("execution")) s.execution = read_execution(*n);
   }
   return plan;
 }
 
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
+  if (!overrides.execution.empty() && overrides.execution != "physics" &&
+      overrides.execution != "kinematic") {
+    throw core::InputError("--execution", "",
+                           "must be physics or kinematic, not '" + overrides.execution + "'");
+  }
   std::vector<PlannerConfig> planners;
   for (const std::string& name : overrides.planners) {
     PlannerConfig p{name, {}};
@@ -345,6 +360,7 @@ void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
       throw core::InputError(s.file.string(), "layout_seed",
                              "layout_seed + trials - 1 must stay within 2^64 - 1");
     }
+    if (!overrides.execution.empty()) s.execution = overrides.execution;
     if (static_cast<std::uint64_t>(s.seed) + static_cast<std::uint64_t>(s.trials) - 1 >
         0xffffffffULL) {
       throw core::InputError("--seed", "",

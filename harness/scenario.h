@@ -40,6 +40,9 @@ struct Scenario {
   std::vector<ProgramCall> setup;
   std::vector<std::string> robots, environments;
   std::string perception = "ground_truth";
+  // How motion is executed: "physics" (simulated dynamics) or "kinematic" (the robot is set to
+  // its commanded configurations; mujoco_skillset.h).
+  std::string execution = "physics";
   core::ObstacleOptions obstacles;
   std::vector<PlannerConfig> planners{{"RRTConnect", {}}};
   std::uint64_t layout_seed = 1;  // trial k (0-based) uses layout_seed + k
@@ -70,7 +73,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
 //   trials: 3                     # optional overrides for every scenario: trials,
 //                                 # layout_seed, seed, planners, robots, environments,
 //                                 # planner_budget, plan_iterations, plan_time_limit_s,
-//                                 # wall_limit_s
+//                                 # wall_limit_s, execution
 struct RunPlan {
   std::string name;
   std::string doc;
@@ -89,6 +92,7 @@ struct RunOverrides {
   int trials = 0;                     // 0: keep
   std::uint32_t seed = 0;             // 0: keep
   std::vector<std::string> planners;  // empty: keep
+  std::string execution;              // empty: keep; else "physics" or "kinematic"
 };
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides);
 

@@ -41,7 +41,10 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
                       const core::ProgramRegistry& registry, const TrialObserver& observe,
                       const TrialOptions& trial_options) {
   const auto t0 = std::chrono::steady_clock::now();
-  mujoco::MujocoSkillset skills(std::move(scene));
+  mujoco::SimulationOptions simulation;
+  simulation.execution = scenario.execution == "kinematic" ? mujoco::ExecutionMode::kKinematic
+                                                           : mujoco::ExecutionMode::kPhysics;
+  mujoco::MujocoSkillset skills(std::move(scene), simulation);
   skills.apply_layout(skills.scene().make_layout(scenario.obstacles, layout_seed));
   if (trial_options.record_rate_hz > 0) skills.record_states(trial_options.record_rate_hz);
   skills.set_visitor_walk(scenario.visitor_speed_mps);

@@ -28,6 +28,7 @@ nlohmann::json identity(const RunPlan& plan, const TrialSpec& spec) {
   j["program"] = s.run.program;
   j["planner"] = p.label;
   j["planner_name"] = p.spec.name;
+  j["execution"] = s.execution;
   j["seed"] = spec.seed;
   j["layout_seed"] = spec.layout_seed;
   return j;
@@ -60,6 +61,9 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
   j["executive_wall_s"] = r.executive_wall_s;
   j["stepping_wall_s"] = w.stepping_wall_s;
   j["monitoring_wall_s"] = w.monitoring_wall_s;
+  j["contacts_per_pass"] = w.contact_passes > 0
+                               ? nlohmann::json(static_cast<double>(w.contacts) / w.contact_passes)
+                               : nlohmann::json(nullptr);
   nlohmann::json events = nlohmann::json::array();
   for (const TrialEvent& e : r.events) {
     nlohmann::json ev = {
@@ -98,11 +102,16 @@ nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
   j["success"] = false;
   j["status"] = status;
   j["failure_reason"] = reason;
-  for (const char* key : {"planning_time_s", "simplification_time_s", "plan_calls", "planner_runs",
-                          "collision_checks", "ik_calls", "ik_time_s", "path_length_joint",
-                          "path_length_ee_m", "duration_s", "sim_time_s", "smoothness",
-                          "min_clearance_m", "clearance_samples", "control_periods", "trial_wall_s",
-                          "executive_wall_s", "stepping_wall_s", "monitoring_wall_s"}) {
+  for (const char* key : {"planning_time_s",   "simplification_time_s",
+                          "plan_calls",        "planner_runs",
+                          "collision_checks",  "ik_calls",
+                          "ik_time_s",         "path_length_joint",
+                          "path_length_ee_m",  "duration_s",
+                          "sim_time_s",        "smoothness",
+                          "min_clearance_m",   "clearance_samples",
+                          "control_periods",   "trial_wall_s",
+                          "executive_wall_s",  "stepping_wall_s",
+                          "monitoring_wall_s", "contacts_per_pass"}) {
     j[key] = nullptr;
   }
   j["events"] = nlohmann::json::array();
@@ -142,7 +151,8 @@ std::vector<std::string> clock_bounds_hit(const nlohmann::json& trial) {
 const std::vector<std::string>& timing_fields() {
   static const std::vector<std::string> fields = {
       "planning_time_s", "simplification_time_s", "ik_time_s",   "trial_wall_s", "executive_wall_s",
-      "stepping_wall_s", "monitoring_wall_s",     "wall_time_s", "overhead_s",   "peak_memory_mb"};
+      "stepping_wall_s", "monitoring_wall_s",     "wall_time_s", "overhead_s",   "cpu_time_s",
+      "peak_memory_mb"};
   return fields;
 }
 

@@ -198,6 +198,8 @@ size_t run_in_workers(size_t count, const WorkerPoolOptions& options,
       WorkerOutcome out;
       out.wall_s = std::chrono::duration<double>(Clock::now() - r.start).count();
       out.peak_memory_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+      out.cpu_s = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                  1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
       if (r.timed_out) {
         out.status = "timeout";
         char buf[96];

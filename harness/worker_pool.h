@@ -23,6 +23,7 @@ struct WorkerOutcome {
   std::string reason;
   double wall_s = 0;          // fork to reaped
   double peak_memory_mb = 0;  // the worker's maximum resident set (getrusage of the child)
+  double cpu_s = 0;           // the worker's user + system CPU time (getrusage of the child)
 };
 
 struct WorkerPoolOptions {

@@ -25,9 +25,12 @@ struct IkOptions {
   double position_tolerance_m = 1e-3;
   double orientation_tolerance_rad = 0.0174533;  // 1 degree
   int max_iterations = 150;                      // per start
-  int restarts = 30;                             // random starts after the current configuration
-  int max_solutions = 1;                         // stop after this many distinct solutions
-  double distinct_rad = 0.2;                     // joint-space (max-norm) separation of solutions
+  // A start stops early when its error (position in m plus orientation in rad) has not fallen
+  // by 1% within this many iterations; 0: every start runs max_iterations.
+  int stall_iterations = 15;
+  int restarts = 30;          // random starts after the current configuration
+  int max_solutions = 1;      // stop after this many distinct solutions
+  double distinct_rad = 0.2;  // joint-space (max-norm) separation of solutions
   bool collision_free = true;
   std::uint64_t seed = 1;
 };

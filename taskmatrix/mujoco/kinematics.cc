@@ -2,12 +2,14 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <random>
 #include <stdexcept>
 
+#include "taskmatrix/mujoco/body_kinematics.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 
 namespace taskmatrix::mujoco {
@@ -86,6 +88,89 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
   return solve_ik(scene, worker.model(), worker.data(), joints, frame, target, options);
 }
 
+namespace {
+
+// The part of the body tree IK moves: the frame's ancestors from the first one that carries a
+// joint being solved for, down to the frame's body. Their poses are recomputed per iteration;
+// everything above is read from the data as it was.
+class ChainPath {
+ public:
+  ChainPath(const mjModel* m, const std::vector<int>& joints, int frame_body) : m_(m) {
+    std::vector<int> up;
+    for (int b = frame_body; b > 0; b = m->body_parentid[b]) up.push_back(b);
+    std::reverse(up.begin(), up.end());
+    std::vector<char> listed(m->njnt, 0);
+    for (int j : joints) listed[j] = 1;
+    size_t first = up.size();
+    for (size_t k = 0; k < up.size() && first == up.size(); ++k) {
+      for (int i = 0; i < m->body_jntnum[up[k]]; ++i) {
+        if (listed[m->body_jntadr[up[k]] + i]) first = k;
+      }
+    }
+    bodies_.assign(up.begin() + static_cast<long>(first), up.end());
+    top_parent_ = bodies_.empty() ? frame_body : m->body_parentid[bodies_.front()];
+    frame_of_joint_.assign(m->njnt, -1);
+    for (int b : bodies_) {
+      for (int i = 0; i < m->body_jntnum[b]; ++i) {
+        frame_of_joint_[m->body_jntadr[b] + i] = static_cast<int>(joint_frames_.size());
+        joint_frames_.push_back({});
+      }
+    }
+    pos_.resize(3 * bodies_.size());
+    quat_.resize(4 * bodies_.size());
+    mat_.resize(9 * bodies_.size());
+  }
+
+  // Whether joint j moves the frame.
+  bool on_path(int j) const { return frame_of_joint_[j] >= 0; }
+  const JointFrame& joint(int j) const { return joint_frames_[frame_of_joint_[j]]; }
+
+  // Poses of the path's bodies from d->qpos; the frame's body pose afterwards.
+  core::Pose update(const mjData* d) {
+    const mjtNum* ppos = d->xpos + 3 * top_parent_;
+    const mjtNum* pquat = d->xquat + 4 * top_parent_;
+    const mjtNum* pmat = d->xmat + 9 * top_parent_;
+    JointFrame* frames = joint_frames_.data();
+    for (size_t k = 0; k < bodies_.size(); ++k) {
+      body_pose_from_parent(m_, d->qpos, bodies_[k], ppos, pquat, pmat, &pos_[3 * k], &quat_[4 * k],
+                            &mat_[9 * k], frames);
+      frames += m_->body_jntnum[bodies_[k]];
+      ppos = &pos_[3 * k];
+      pquat = &quat_[4 * k];
+      pmat = &mat_[9 * k];
+    }
+    core::Pose pose;
+    pose.position = Eigen::Vector3d(ppos[0], ppos[1], ppos[2]);
+    pose.orientation = Eigen::Quaterniond(pquat[0], pquat[1], pquat[2], pquat[3]);
+    return pose;
+  }
+
+ private:
+  const mjModel* m_;
+  std::vector<int> bodies_;
+  int top_parent_ = 0;
+  std::vector<int> frame_of_joint_;  // per joint id: index into joint_frames_, -1 off the path
+  std::vector<JointFrame> joint_frames_;
+  std::vector<mjtNum> pos_, quat_, mat_;
+};
+
+core::Pose compose(const core::Pose& body, const core::Pose& offset) {
+  core::Pose pose;
+  pose.position = body.position + body.orientation * offset.position;
+  pose.orientation = (body.orientation * offset.orientation).normalized();
+  return pose;
+}
+
+Eigen::Vector3d vec3(const mjtNum* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
+
+// What a start must improve its error by within IkOptions::stall_iterations to go on.
+constexpr double kStallFraction = 0.01;
+// Random starts sample slide joints within this much more than the frame's distance to the
+// target of their current value (a base need not move farther than the hand must).
+constexpr double kSlideSlackM = 0.5;
+
+}  // namespace
+
 core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
                         const std::vector<int>& joints, const std::string& frame_name,
                         const core::Pose& target, const IkOptions& o,
@@ -118,7 +203,7 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
     return finish(core::IkStatus::kInvalidInput, e.what());
   }
   const int n = static_cast<int>(joints.size());
-  std::vector<int> adr(n), dof(n);
+  std::vector<int> adr(n);
   Eigen::VectorXd lo(n), hi(n);
   for (int i = 0; i < n; ++i) {
     const int j = joints[i];
@@ -127,37 +212,100 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
                     "joint id " + std::to_string(j) + " is not a hinge or slide");
     }
     adr[i] = m->jnt_qposadr[j];
-    dof[i] = m->jnt_dofadr[j];
     lo[i] = m->jnt_range[2 * j];
     hi[i] = m->jnt_range[2 * j + 1];
   }
   const std::vector<double> saved(d->qpos, d->qpos + m->nq);
-  ValidityChecker checker(scene, m, d, joints, attachments);
+  mj_kinematics(m, d);  // the bodies above the chain are read from here
+  ChainPath path(m, joints, frame.body);
+  // Collision checks only for converged solutions: the checker is made on the first.
+  std::optional<ValidityChecker> checker;
+
+  Eigen::VectorXd current(n);
+  for (int i = 0; i < n; ++i) current[i] = std::clamp(saved[adr[i]], lo[i], hi[i]);
+  auto frame_at = [&](const Eigen::VectorXd& q) {
+    for (int i = 0; i < n; ++i) d->qpos[adr[i]] = q[i];
+    return compose(path.update(d), frame.offset);
+  };
+  const core::Pose pose_now = frame_at(current);
+
+  // Out of reach: with hinges only, the frame stays within the sum of the distances between
+  // successive joint anchors (and from the last one to the frame) of the first anchor.
+  std::vector<int> path_joints;  // listed joints that move the frame, from the root outwards
+  for (int j = 0; j < m->njnt; ++j) {
+    if (path.on_path(j) && std::find(joints.begin(), joints.end(), j) != joints.end()) {
+      path_joints.push_back(j);
+    }
+  }
+  const bool hinges_only = std::all_of(path_joints.begin(), path_joints.end(),
+                                       [&](int j) { return m->jnt_type[j] == mjJNT_HINGE; });
+  if (hinges_only) {
+    double reach = 0;
+    Eigen::Vector3d origin = pose_now.position;
+    if (!path_joints.empty()) {
+      for (size_t k = 0; k + 1 < path_joints.size(); ++k) {
+        reach +=
+            (vec3(path.joint(path_joints[k + 1]).anchor) - vec3(path.joint(path_joints[k]).anchor))
+                .norm();
+      }
+      reach += (pose_now.position - vec3(path.joint(path_joints.back()).anchor)).norm();
+      origin = vec3(path.joint(path_joints.front()).anchor);
+    }
+    const double needed = (target.position - origin).norm();
+    if (needed > reach + o.position_tolerance_m) {
+      std::copy(saved.begin(), saved.end(), d->qpos);
+      mj_kinematics(m, d);
+      result.position_error_m = needed - reach;
+      result.orientation_error_rad = 0;
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "out of reach: the target is %.3f m from the chain's first joint, which "
+                    "reaches %.3f m",
+                    needed, reach);
+      return finish(core::IkStatus::kUnreachable, buf);
+    }
+  }
+
+  // Where random starts are drawn: each joint's limits, slide joints only as far from their
+  // current value as the frame is from the target (plus slack), and widening from the current
+  // configuration over the first half of the restarts.
+  Eigen::VectorXd sample_lo = lo, sample_hi = hi;
+  const double span = (target.position - pose_now.position).norm() + kSlideSlackM;
+  for (int i = 0; i < n; ++i) {
+    if (m->jnt_type[joints[i]] != mjJNT_SLIDE) continue;
+    sample_lo[i] = std::max(lo[i], current[i] - span);
+    sample_hi[i] = std::min(hi[i], current[i] + span);
+  }
 
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<double> jacp(3 * m->nv), jacr(3 * m->nv);
   const int rows = o.orientation ? 6 : 3;
   double best_pos = INFINITY, best_rot = INFINITY;
   int converged_in_collision = 0;
+  Eigen::MatrixXd jac(rows, n);
+  Eigen::VectorXd err(rows);
 
   for (int attempt = 0;
        attempt <= o.restarts && static_cast<int>(result.solutions.size()) < o.max_solutions;
        ++attempt) {
-    Eigen::VectorXd q(n);
-    for (int i = 0; i < n; ++i) {
-      q[i] = attempt == 0 ? std::clamp(saved[adr[i]], lo[i], hi[i])
-                          : lo[i] + (hi[i] - lo[i]) * unit(rng);
+    Eigen::VectorXd q = current;
+    if (attempt > 0) {
+      const double widen =
+          std::min(1.0, 2.0 * attempt / static_cast<double>(std::max(1, o.restarts)));
+      for (int i = 0; i < n; ++i) {
+        const double u = unit(rng);  // drawn for every joint: the stream does not depend on n
+        if (!path.on_path(joints[i])) continue;
+        const double a = current[i] - widen * (current[i] - sample_lo[i]);
+        const double b = current[i] + widen * (sample_hi[i] - current[i]);
+        q[i] = a + (b - a) * u;
+      }
     }
     double lambda = 0.05;
+    double start_best = INFINITY;
+    int last_improvement = 0;
     for (int it = 0; it < o.max_iterations; ++it) {
       ++result.iterations;
-      for (int i = 0; i < n; ++i) d->qpos[adr[i]] = q[i];
-      mj_kinematics(m, d);
-      mj_comPos(m, d);
-      const core::Pose now = frame_pose(d, frame);
-      const double point[3] = {now.position.x(), now.position.y(), now.position.z()};
-      Eigen::VectorXd err(rows);
+      const core::Pose now = frame_at(q);
       err.head<3>() = target.position - now.position;
       // Rotation about the free axis (in world coordinates now) is not an error.
       Eigen::Matrix3d keep = Eigen::Matrix3d::Identity();
@@ -183,19 +331,42 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
           distinct = distinct && dmax > o.distinct_rad;
         }
         if (!distinct) break;
-        if (o.collision_free && checker.in_collision(solution.data())) {
-          ++converged_in_collision;
-          break;
+        if (o.collision_free) {
+          if (!checker) {
+            // Bound to the state the query started from.
+            std::copy(saved.begin(), saved.end(), d->qpos);
+            mj_kinematics(m, d);
+            checker.emplace(scene, m, d, joints, attachments);
+          }
+          if (checker->in_collision(solution.data())) {
+            ++converged_in_collision;
+            break;
+          }
         }
         result.solutions.push_back(solution);
         break;
       }
-      mj_jac(m, d, jacp.data(), o.orientation ? jacr.data() : nullptr, point, frame.body);
-      Eigen::MatrixXd jac(rows, n);
+      if (pos_err + rot_err < (1.0 - kStallFraction) * start_best) {
+        start_best = pos_err + rot_err;
+        last_improvement = it;
+      } else if (o.stall_iterations > 0 && it - last_improvement >= o.stall_iterations) {
+        break;
+      }
+      // The Jacobian of the frame's origin and orientation, column by column.
       for (int i = 0; i < n; ++i) {
-        for (int r = 0; r < 3; ++r) {
-          jac(r, i) = jacp[r * m->nv + dof[i]];
-          if (o.orientation) jac(3 + r, i) = jacr[r * m->nv + dof[i]];
+        const int j = joints[i];
+        if (!path.on_path(j)) {
+          jac.col(i).setZero();
+          continue;
+        }
+        const JointFrame& f = path.joint(j);
+        const Eigen::Vector3d axis = vec3(f.axis);
+        if (m->jnt_type[j] == mjJNT_SLIDE) {
+          jac.col(i).head<3>() = axis;
+          if (o.orientation) jac.col(i).tail<3>().setZero();
+        } else {
+          jac.col(i).head<3>() = axis.cross(now.position - vec3(f.anchor));
+          if (o.orientation) jac.col(i).tail<3>() = axis;
         }
       }
       if (o.orientation && free_axis) jac.bottomRows<3>() = keep * jac.bottomRows<3>();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "taskmatrix/mujoco/body_kinematics.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 #include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/motion_planner.h"
@@ -29,8 +30,15 @@ core::PlanResult plan_failure(core::PlanStatus status, std::string message) {
 
 }  // namespace
 
+const char* to_string(ExecutionMode mode) {
+  return mode == ExecutionMode::kKinematic ? "kinematic" : "physics";
+}
+
 MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOptions options)
-    : scene_(std::move(scene)), worker_(scene_) {
+    : scene_(std::move(scene)),
+      worker_(scene_),
+      execution_(options.execution),
+      pruning_(*scene_, worker_.model(), options.pruning) {
   const mjModel* m = worker_.model();
   if (!(std::isfinite(options.control_rate_hz) && options.control_rate_hz > 0)) {
     throw std::invalid_argument("control rate must be a positive number of Hz");
@@ -79,6 +87,36 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
     const FrameRef f = scene_->frame(chain.end_effector);
     if (f.kind == FrameRef::Kind::kSite) ee_sites_.push_back(f.id);
     if (f.kind == FrameRef::Kind::kBody) ee_bodies_.push_back(f.id);
+  }
+  for (const core::HandSpec& hand : robot.hands) {
+    const std::string hand_chain = hand.side + "_hand";
+    const core::ChainSpec* chain = robot.find_chain(hand_chain);
+    const auto fist = robot.postures.at("fist").find(hand_chain);
+    for (const core::FingerSpec& f : hand.fingers) {
+      Finger finger;
+      std::vector<char> moved(m->nbody, 0);
+      for (const std::string& j : f.joints) {
+        const int id = mj_name2id(m, mjOBJ_JOINT, j.c_str());
+        if (id < 0 || !chain || fist == robot.postures.at("fist").end()) continue;
+        const auto at = std::find(chain->joints.begin(), chain->joints.end(), j);
+        if (at == chain->joints.end()) continue;
+        finger.qpos_adr.push_back(m->jnt_qposadr[id]);
+        finger.fist.push_back(fist->second.at(static_cast<size_t>(at - chain->joints.begin())));
+        finger.segments.push_back(m->jnt_bodyid[id]);
+        moved[m->jnt_bodyid[id]] = 1;
+      }
+      for (int b = 1; b < m->nbody; ++b) {
+        if (moved[m->body_parentid[b]]) moved[b] = 1;
+        if (moved[b]) finger.bodies.push_back(b);
+      }
+      for (int g = 0; g < m->ngeom; ++g) {
+        if (moved[m->geom_bodyid[g]]) finger.geoms.push_back(g);
+      }
+      for (const GeomPair& p : scene_->robot_geom_pairs()) {
+        if (moved[m->geom_bodyid[p.g1]] || moved[m->geom_bodyid[p.g2]]) finger.pairs.push_back(p);
+      }
+      if (!finger.qpos_adr.empty()) fingers_.push_back(std::move(finger));
+    }
   }
   for (const auto& [name, spec] : scene_->environment().objects) {
     for (const std::string& b : spec.bodies) {
@@ -215,6 +253,7 @@ void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
   obstacle_count_ = static_cast<int>(layout.obstacles.size());
   forget_obstacles();
   mj_forward(worker_.model(), worker_.data());
+  if (execution_ == ExecutionMode::kKinematic) settle_free_objects();
 }
 
 void MujocoSkillset::set_obstacles_need_perception(bool need) {
@@ -279,6 +318,8 @@ void MujocoSkillset::reset() {
   removed_debris_.clear();
   have_last_ = false;
   have_accel_ = false;
+  pruning_.wake_all();
+  held_pairs_current_ = false;
   worker_.reset_to_start();
   forget_obstacles();
   attachments_.clear();
@@ -293,6 +334,7 @@ void MujocoSkillset::reset() {
     d->ctrl[js.actuator] = target_pos_[js.joint];
   }
   mj_forward(worker_.model(), d);
+  if (execution_ == ExecutionMode::kKinematic) settle_free_objects();
 }
 
 std::optional<core::PlanResult> MujocoSkillset::plan_joints(
@@ -506,6 +548,7 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
     const core::IkResult solved = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints,
                                                    frame, targets[k], ik, attachments_);
     total.ik_time_s += solved.time_s;
+    ++work_.ik_calls;
     if (solved.status == core::IkStatus::kInvalidInput) {
       total.status = core::PlanStatus::kInvalidInput;
       total.message = "target pose " + std::to_string(k) + ": " + solved.reason;
@@ -748,46 +791,284 @@ void MujocoSkillset::monitor_period() {
   }
 }
 
-core::StepReport MujocoSkillset::advance() {
-  const mjModel* m = worker_.model();
+void MujocoSkillset::step_physics() {
+  mjModel* m = worker_.model();
   mjData* d = worker_.data();
-  const auto t_step = std::chrono::steady_clock::now();
-  core::StepReport report;
+  // Entered with the state current (mj_step1 or mj_forward ran at it): bias forces, mass
+  // matrix and contacts are those of the present configuration.
   const double t_end = d->time + period_;
-  const int bad_before = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
-                         d->warning[mjWARN_BADQPOS].number;
+  bool accelerating = false;
+  for (const JointState& js : joint_state_) {
+    if (js.joint >= 0 && target_acc_[js.joint] != 0) accelerating = true;
+  }
+  pruning_.begin(m);
   for (int s = 0; s < substeps_; ++s) {
     // Targets are samples for the end of the period: run along the commanded velocity.
     const double lead = t_end - (d->time + m->opt.timestep);
-    std::fill(acc_full_.begin(), acc_full_.end(), 0.0);
-    for (const JointState& js : joint_state_) {
-      if (js.joint < 0) continue;
-      d->ctrl[js.actuator] = target_pos_[js.joint] - target_vel_[js.joint] * lead;
-      acc_full_[js.dof_adr] = target_acc_[js.joint];
+    if (accelerating) {
+      std::fill(acc_full_.begin(), acc_full_.end(), 0.0);
+      for (const JointState& js : joint_state_) {
+        if (js.joint >= 0) acc_full_[js.dof_adr] = target_acc_[js.joint];
+      }
+      mj_mulM(m, d, mass_times_acc_.data(), acc_full_.data());
     }
-    mj_mulM(m, d, mass_times_acc_.data(), acc_full_.data());
     for (const JointState& js : joint_state_) {
       if (js.joint < 0) continue;
       const int v = js.dof_adr;
-      d->qfrc_applied[v] =
-          d->qfrc_bias[v] + mass_times_acc_[v] + m->dof_damping[v] * target_vel_[js.joint];
+      d->ctrl[js.actuator] = target_pos_[js.joint] - target_vel_[js.joint] * lead;
+      d->qfrc_applied[v] = d->qfrc_bias[v] + (accelerating ? mass_times_acc_[v] : 0.0) +
+                           m->dof_damping[v] * target_vel_[js.joint];
     }
+    mj_step2(m, d);  // actuation, accelerations, contact forces, integration
+    pruning_.after_integration(m, d);
     drive_visitor(d, d->time);
     if (!attachments_.empty()) {
       mj_kinematics(m, d);
       place_attachments(m, d, attachments_);
     }
-    mj_step(m, d);
+    pruning_.before_collision(m, d);
+    mj_step1(m, d);  // kinematics, contacts, bias forces at the new state
+    ++work_.contact_passes;
+    work_.contacts += d->ncon;
   }
-  drive_visitor(d, d->time);
+  pruning_.end(m);
   for (const JointState& js : joint_state_) {
     if (js.joint >= 0) d->ctrl[js.actuator] = target_pos_[js.joint];
   }
-  if (!attachments_.empty()) {
-    mj_kinematics(m, d);
-    place_attachments(m, d, attachments_);
+}
+
+void MujocoSkillset::step_kinematic() {
+  const mjModel* m = worker_.model();
+  mjData* d = worker_.data();
+  // The same clock as the physics (mj_step adds one timestep at a time).
+  for (int s = 0; s < substeps_; ++s) d->time += m->opt.timestep;
+  robot_qpos_before_.assign(d->qpos, d->qpos + m->nq);
+  for (const JointState& js : joint_state_) {
+    if (js.joint < 0) continue;
+    d->qpos[js.qpos_adr] = target_pos_[js.joint];
+    d->qvel[js.dof_adr] = target_vel_[js.joint];
+    d->ctrl[js.actuator] = target_pos_[js.joint];
   }
+  drive_visitor(d, d->time);
+  mj_kinematics(m, d);
+  if (!attachments_.empty()) {
+    place_attachments(m, d, attachments_);
+    mj_kinematics(m, d);
+  }
+  if (stop_fingers_at_contact(robot_qpos_before_)) {
+    mj_kinematics(m, d);
+    if (!attachments_.empty()) {
+      place_attachments(m, d, attachments_);
+      mj_kinematics(m, d);
+    }
+  }
+  mj_camlight(m, d);
+  find_robot_contacts();
+}
+
+bool MujocoSkillset::stop_fingers_at_contact(const std::vector<double>& before) {
+  const mjModel* m = worker_.model();
+  mjData* d = worker_.data();
+  bool held_back = false;
+  mjContact found[mjMAXCONPAIR];
+  // The deepest penetration of the finger's geoms into anything, as posed in d.
+  auto depth = [&](const Finger& f) {
+    double deepest = 0;
+    for (const GeomPair& p : f.pairs) {
+      const int n = collide_geoms(m, d, p, p.margin, found);
+      for (int i = 0; i < n; ++i) deepest = std::max(deepest, -found[i].dist);
+    }
+    return deepest;
+  };
+  // Poses the finger's bodies and geoms with its joints a fraction s of the way from `before`
+  // to their targets (the palm's pose is current).
+  auto pose = [&](const Finger& f, const std::vector<double>& target, double s) {
+    for (size_t i = 0; i < f.qpos_adr.size(); ++i) {
+      const int a = f.qpos_adr[i];
+      d->qpos[a] = before[a] + s * (target[i] - before[a]);
+    }
+    for (int b : f.bodies) {
+      const int parent = m->body_parentid[b];
+      body_pose_from_parent(m, d->qpos, b, d->xpos + 3 * parent, d->xquat + 4 * parent,
+                            d->xmat + 9 * parent, d->xpos + 3 * b, d->xquat + 4 * b,
+                            d->xmat + 9 * b);
+    }
+    for (int g : f.geoms) {
+      const int b = m->geom_bodyid[g];
+      geom_pose_from_body(m, g, d->xpos + 3 * b, d->xquat + 4 * b, d->xmat + 9 * b,
+                          d->geom_xpos + 3 * g, d->geom_xmat + 9 * g);
+    }
+  };
+  // Whether a body touched anything at the start of the period (d->contact is still the last
+  // period's).
+  auto touched = [&](int body) {
+    for (int i = 0; i < d->ncon; ++i) {
+      if (m->geom_bodyid[d->contact[i].geom1] == body ||
+          m->geom_bodyid[d->contact[i].geom2] == body) {
+        return true;
+      }
+    }
+    return false;
+  };
+  for (const Finger& f : fingers_) {
+    // A touching segment holds the joints nearer the palm from closing.
+    for (size_t k = f.segments.size(); k-- > 1;) {
+      if (!touched(f.segments[k])) continue;
+      for (size_t i = 0; i < k; ++i) {
+        const int a = f.qpos_adr[i];
+        if (std::abs(d->qpos[a] - f.fist[i]) < std::abs(before[a] - f.fist[i])) {
+          d->qpos[a] = before[a];
+          held_back = true;
+        }
+      }
+      break;
+    }
+    std::vector<double> target;
+    bool moved = false;
+    for (int a : f.qpos_adr) {
+      target.push_back(d->qpos[a]);
+      moved = moved || d->qpos[a] != before[a];
+    }
+    if (!moved) continue;
+    pose(f, target, 1.0);
+    const double reached = depth(f);
+    if (reached <= kFingerPenetrationM) continue;
+    pose(f, target, 0.0);
+    const double allowed = std::max(kFingerPenetrationM, depth(f));
+    if (reached <= allowed) {
+      pose(f, target, 1.0);
+      continue;
+    }
+    // The furthest fraction of the motion that sinks no deeper than allowed.
+    double lo = 0, hi = 1;
+    for (int k = 0; k < 12; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      pose(f, target, mid);
+      (depth(f) <= allowed ? lo : hi) = mid;
+    }
+    pose(f, target, lo);
+    held_back = true;
+  }
+  return held_back;
+}
+
+void MujocoSkillset::find_robot_contacts() {
+  const mjModel* m = worker_.model();
+  mjData* d = worker_.data();
+  if (!held_pairs_current_) {
+    // Held objects against everything that is neither the robot (those pairs are among the
+    // scene's robot pairs) nor the object itself.
+    held_pairs_.clear();
+    for (const Attachment& a : attachments_) {
+      for (int g1 = 0; g1 < m->ngeom; ++g1) {
+        if (m->body_rootid[m->geom_bodyid[g1]] != a.body) continue;
+        for (int g2 = 0; g2 < m->ngeom; ++g2) {
+          if (scene_->is_robot_geom(g2) || m->body_rootid[m->geom_bodyid[g2]] == a.body) continue;
+          if (const std::optional<GeomPair> p = scene_->collidable_pair(g1, g2)) {
+            held_pairs_.push_back(*p);
+          }
+        }
+      }
+    }
+    held_pairs_current_ = true;
+  }
+  d->ncon = 0;
+  auto add = [&](const GeomPair& p) {
+    mjContact found[mjMAXCONPAIR];
+    const int n = collide_geoms(m, d, p, p.margin, found);
+    for (int i = 0; i < n && d->ncon < m->nconmax; ++i) d->contact[d->ncon++] = found[i];
+  };
+  for (const GeomPair& p : scene_->robot_geom_pairs()) add(p);
+  for (const GeomPair& p : held_pairs_) add(p);
+  ++work_.contact_passes;
+  work_.contacts += d->ncon;
+}
+
+void MujocoSkillset::settle_objects(const std::vector<int>& bodies) {
+  mjModel* m = worker_.model();
+  mjData* d = worker_.data();
+  std::vector<char> free_dof(m->nv, 0), free_qpos(m->nq, 0);
+  for (int body : bodies) {
+    const int joint = m->body_jntadr[body];
+    for (int k = 0; k < 7; ++k) free_qpos[m->jnt_qposadr[joint] + k] = 1;
+    for (int k = 0; k < 6; ++k) free_dof[m->jnt_dofadr[joint] + k] = 1;
+  }
+  const std::vector<double> qpos(d->qpos, d->qpos + m->nq), qvel(d->qvel, d->qvel + m->nv);
+  const double time = d->time;
+  // The robot holds still and lets go: no contacts with it while the objects settle.
+  std::vector<std::array<int, 3>> robot_bits;
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (!scene_->is_robot_geom(g)) continue;
+    robot_bits.push_back({g, m->geom_contype[g], m->geom_conaffinity[g]});
+    m->geom_contype[g] = 0;
+    m->geom_conaffinity[g] = 0;
+  }
+  mju_zero(d->qfrc_applied, m->nv);
+  mju_zero(d->qvel, m->nv);
+  // Until each has been touching something and at rest for kRestTimeS (or kSettleMaxS).
+  const int steps = static_cast<int>(std::lround(kSettleMaxS / m->opt.timestep));
+  const int rest_needed = std::max(1, static_cast<int>(std::lround(kRestTimeS / m->opt.timestep)));
+  std::vector<int> at_rest(bodies.size(), 0);
+  auto settled = [&] {
+    return std::all_of(at_rest.begin(), at_rest.end(), [&](int n) { return n >= rest_needed; });
+  };
+  for (int s = 0; s < steps && !settled(); ++s) {
+    mj_step(m, d);
+    for (int i = 0; i < m->nq; ++i) {
+      if (!free_qpos[i]) d->qpos[i] = qpos[i];
+    }
+    for (int i = 0; i < m->nv; ++i) {
+      if (!free_dof[i]) d->qvel[i] = 0;
+    }
+    for (size_t k = 0; k < bodies.size(); ++k) {
+      bool touching = false;
+      for (int c = 0; c < d->ncon && !touching; ++c) {
+        touching = m->body_rootid[m->geom_bodyid[d->contact[c].geom1]] == bodies[k] ||
+                   m->body_rootid[m->geom_bodyid[d->contact[c].geom2]] == bodies[k];
+      }
+      const double* v = d->qvel + m->jnt_dofadr[m->body_jntadr[bodies[k]]];
+      const bool slow = mju_norm3(v) < kRestSpeed && mju_norm3(v + 3) < kRestAngularSpeed;
+      at_rest[k] = touching && slow ? at_rest[k] + 1 : 0;
+    }
+  }
+  for (const auto& [g, contype, conaffinity] : robot_bits) {
+    m->geom_contype[g] = contype;
+    m->geom_conaffinity[g] = conaffinity;
+  }
+  for (int i = 0; i < m->nv; ++i) d->qvel[i] = free_dof[i] ? 0 : qvel[i];
+  d->time = time;
   mj_forward(m, d);
+}
+
+void MujocoSkillset::settle_free_objects() {
+  const mjModel* m = worker_.model();
+  std::vector<int> bodies;
+  for (const auto& [name, spec] : scene_->environment().objects) {
+    const int body = object_body(name);
+    if (body <= 0 || m->body_parentid[body] != 0 || m->body_jntnum[body] != 1 ||
+        m->jnt_type[m->body_jntadr[body]] != mjJNT_FREE) {
+      continue;
+    }
+    if (std::none_of(attachments_.begin(), attachments_.end(),
+                     [&](const Attachment& a) { return a.body == body; })) {
+      bodies.push_back(body);
+    }
+  }
+  if (!bodies.empty()) settle_objects(bodies);
+}
+
+core::StepReport MujocoSkillset::advance() {
+  const mjModel* m = worker_.model();
+  mjData* d = worker_.data();
+  const auto t_step = std::chrono::steady_clock::now();
+  core::StepReport report;
+  const int bad_before = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
+                         d->warning[mjWARN_BADQPOS].number;
+  if (execution_ == ExecutionMode::kKinematic) {
+    step_kinematic();
+  } else {
+    step_physics();
+  }
   collect_debris();
   const auto t_monitor = std::chrono::steady_clock::now();
   work_.stepping_wall_s += std::chrono::duration<double>(t_monitor - t_step).count();
@@ -876,8 +1157,11 @@ void MujocoSkillset::attach(const std::string& object, const std::string& side) 
   attachments_.push_back(std::move(a));
   attachment_names_.push_back(object);
   attachment_sides_.push_back(side);
+  pruning_.set_held(body, true);
+  held_pairs_current_ = false;
   place_attachments(m, d, attachments_);
   mj_forward(m, d);
+  if (execution_ == ExecutionMode::kKinematic) find_robot_contacts();
 }
 
 void MujocoSkillset::detach(const std::string& object) {
@@ -886,10 +1170,15 @@ void MujocoSkillset::detach(const std::string& object) {
     throw std::invalid_argument("object '" + object + "' is not attached");
   }
   const size_t k = static_cast<size_t>(it - attachment_names_.begin());
+  const int body = attachments_[k].body;
   attachments_.erase(attachments_.begin() + static_cast<long>(k));
   attachment_sides_.erase(attachment_sides_.begin() + static_cast<long>(k));
   attachment_names_.erase(it);
+  pruning_.set_held(body, false);
+  held_pairs_current_ = false;
+  if (execution_ == ExecutionMode::kKinematic) settle_objects({body});
   mj_forward(worker_.model(), worker_.data());
+  if (execution_ == ExecutionMode::kKinematic) find_robot_contacts();
 }
 
 std::vector<std::string> MujocoSkillset::attached_objects() const { return attachment_names_; }

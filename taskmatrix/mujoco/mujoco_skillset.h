@@ -4,11 +4,32 @@
 // for FK, IK, validity, clearance and planning, synchronised from `sim` before each query,
 // so a query never disturbs the simulation.
 //
-// Execution: each joint has a position actuator; advance() runs the control period as
-// mj_step substeps with a computed-torque feed-forward on the robot's joints
-// (qfrc_applied = bias forces + M * commanded acceleration + damping * commanded velocity),
-// so tracking error reflects the trajectory and the gains, not gravity. Held objects are
-// moved kinematically with their holder before every substep.
+// Execution, in one of two modes (SimulationOptions::execution):
+//   - physics: each joint has a position actuator; advance() runs the control period as
+//     timestep substeps (mj_step2, then mj_step1 at the new state, so the state is current
+//     for queries after every period without another mj_forward) with a computed-torque
+//     feed-forward on the robot's joints (qfrc_applied = bias forces + M * commanded
+//     acceleration + damping * commanded velocity), so tracking error reflects the trajectory
+//     and the gains, not gravity. Held objects are moved kinematically with their holder
+//     before every substep. Contacts that cannot matter are pruned (contact_pruning.h).
+//   - kinematic: the paper's kinematically simulated robot. advance() sets the robot's joints
+//     to the commanded positions (and velocities) at the end of the period, moves held objects
+//     with their holders, and finds the contacts of the robot and what it holds with the
+//     validity checker's pair test (collide_geoms: collision filters, bounding spheres,
+//     oriented boxes, MuJoCo's narrow phase); nothing else moves unless scripted (the visitor).
+//     Fingers (the profile's hands) do not pass through what they touch: a finger's motion in
+//     a period stops where its segments would sink more than kFingerPenetrationM into anything
+//     (deeper than they already were), and a segment that touches something holds the joints
+//     between it and the palm from closing further (towards the profile's fist posture), as a
+//     finger pressing on an object stops closing in physics.
+//     A released object is dropped onto what lies below it by a short physics settle at the
+//     moment of release (until it has touched something and rested for kRestTimeS, at most
+//     kSettleMaxS; the robot and everything else held still, its contacts with the robot off):
+//     simulated time does not advance during the settle. The free objects are settled the same
+//     way after a reset or a new layout (the physics settles them in its first steps), so
+//     they rest on their supports and what the robot picks up has a support to leave.
+//   Both report the same measures (WorkRecord), and collisions() and touching() read the
+//   same contact list.
 //
 // The world's own behaviour, beyond physics:
 //   - The visitor walks its environment path back and forth at set_visitor_walk's speed,
@@ -32,6 +53,7 @@
 #include <vector>
 
 #include "taskmatrix/core/skillset.h"
+#include "taskmatrix/mujoco/contact_pruning.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 #include "taskmatrix/mujoco/work_record.h"
@@ -43,8 +65,18 @@ class HeadSensor;
 inline constexpr double kDebrisPickupRadius = 0.035;  // m, horizontal, tip to flake centre
 inline constexpr double kDebrisPickupHeight = 0.06;   // m, tip above the flake's centre
 
+enum class ExecutionMode { kPhysics, kKinematic };
+const char* to_string(ExecutionMode mode);  // "physics", "kinematic"
+
+// Upper bound on a kinematic release's settle (simulated seconds, not counted as trial time).
+inline constexpr double kSettleMaxS = 1.0;
+// How far a finger may sink into what it touches in kinematic mode (m).
+inline constexpr double kFingerPenetrationM = 0.0005;
+
 struct SimulationOptions {
   double control_rate_hz = 100.0;  // rounded to a whole number of model timesteps per period
+  ExecutionMode execution = ExecutionMode::kPhysics;
+  ContactPruningOptions pruning;  // physics mode
   // Execution monitoring (WorkRecord): how often the moving chains' clearance is sampled
   // (0: never) and the distance it is capped at.
   double clearance_rate_hz = 10.0;
@@ -88,6 +120,8 @@ class MujocoSkillset final : public core::Skillset {
   void record_states(double rate_hz);
   const StateRecording& recording() const { return recording_; }
 
+  ExecutionMode execution() const { return execution_; }
+  const ContactPruning& pruning() const { return pruning_; }
   const Scene& scene() const { return *scene_; }
   const mjModel* model() const { return worker_.model(); }
   const mjData* sim_data() const { return worker_.data(); }
@@ -170,6 +204,20 @@ class MujocoSkillset final : public core::Skillset {
                                              const core::GoalRegion& region,
                                              const core::PlanOptions& options);
   core::PlanResult note_plan(const char* kind, core::PlanResult result);
+  // One control period of each execution mode.
+  void step_physics();
+  void step_kinematic();
+  // Kinematic mode: the contacts of the robot and what it holds, into the simulation's
+  // contact list.
+  void find_robot_contacts();
+  // Kinematic mode: lets free objects (a released one; all of them at the start) fall onto
+  // what lies below them and come to rest, with the robot and everything else held still and
+  // the clock stopped.
+  void settle_objects(const std::vector<int>& bodies);
+  void settle_free_objects();
+  // Kinematic mode: holds back finger motions that would sink into what the fingers touch.
+  // `before`: the robot's qpos before the period's commands were set. True if any was held.
+  bool stop_fingers_at_contact(const std::vector<double>& before);
   // After each control period: the executed motion's measures and the state recording.
   void monitor_period();
   void record_frame();
@@ -199,6 +247,20 @@ class MujocoSkillset final : public core::Skillset {
     int geom, contype, conaffinity;
   };
   std::vector<HiddenGeom> hidden_bits_;  // what the outermost BeliefScope cleared
+  ExecutionMode execution_ = ExecutionMode::kPhysics;
+  ContactPruning pruning_;
+  std::vector<GeomPair> held_pairs_;  // kinematic: held objects' geoms against the world
+  bool held_pairs_current_ = false;
+  struct Finger {                 // kinematic mode: a finger of the profile's hands
+    std::vector<int> qpos_adr;    // its joints
+    std::vector<double> fist;     // their values in the fist posture
+    std::vector<int> segments;    // the body each joint moves, palm outwards
+    std::vector<int> bodies;      // the bodies its joints move, parents first
+    std::vector<int> geoms;       // their geoms
+    std::vector<GeomPair> pairs;  // the scene's robot pairs with one of them
+  };
+  std::vector<Finger> fingers_;
+  std::vector<double> robot_qpos_before_;  // scratch
   double period_ = 0.01;
   int substeps_ = 5;
   double period_start_ = 0;

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "taskmatrix/mujoco/body_kinematics.h"
+
 namespace taskmatrix::mujoco {
 namespace {
 
@@ -74,6 +76,43 @@ void collide_whole_model(const mjModel* m, mjData* d, const std::vector<Attachme
 }
 
 }  // namespace
+
+int collide_geoms(const mjModel* m, mjData* d, const GeomPair& p, double margin, mjContact* out,
+                  std::uint64_t* narrow_calls) {
+  const int g1 = p.g1, g2 = p.g2;
+  if (!((m->geom_contype[g1] & m->geom_conaffinity[g2]) ||
+        (m->geom_contype[g2] & m->geom_conaffinity[g1]))) {
+    return 0;
+  }
+  // Bounding spheres, as mj_collideGeoms does (planes have rbound 0 and skip this).
+  const mjtNum r1 = m->geom_rbound[g1], r2 = m->geom_rbound[g2];
+  if (r1 > 0 && r2 > 0) {
+    const double* a = d->geom_xpos + 3 * g1;
+    const double* b = d->geom_xpos + 3 * g2;
+    const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    const double bound = r1 + r2 + margin;
+    if (dx * dx + dy * dy + dz * dz > bound * bound) return 0;
+    // A box's bounding sphere is loose (a wall's reaches metres past it): the other geom's
+    // sphere against the box itself.
+    if (m->geom_type[g1] == mjGEOM_BOX &&
+        sphere_clear_of_box(m, d, g1, d->geom_xpos + 3 * g2, r2 + margin)) {
+      return 0;
+    }
+    if (m->geom_type[g2] == mjGEOM_BOX &&
+        sphere_clear_of_box(m, d, g2, d->geom_xpos + 3 * g1, r1 + margin)) {
+      return 0;
+    }
+  }
+  mjfCollision fn = mjCOLLISIONFUNC[m->geom_type[g1]][m->geom_type[g2]];
+  if (!fn) return 0;
+  if (narrow_calls) ++*narrow_calls;
+  const int n = fn(m, d, out, g1, g2, margin);
+  for (int i = 0; i < n; ++i) {
+    out[i].geom1 = g1;
+    out[i].geom2 = g2;
+  }
+  return n;
+}
 
 bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
                             const std::vector<Attachment>& attachments) {
@@ -196,33 +235,13 @@ void ValidityChecker::place_attached(const Attachment& a) {
   for (int g = 0; g < m->ngeom; ++g) {
     const int b = m->geom_bodyid[g];
     if (m->body_rootid[b] != a.body) continue;
-    mju_rotVecMat(d->geom_xpos + 3 * g, m->geom_pos + 3 * g, d->xmat + 9 * b);
-    mju_addTo3(d->geom_xpos + 3 * g, d->xpos + 3 * b);
-    double q[4];
-    mju_mulQuat(q, d->xquat + 4 * b, m->geom_quat + 4 * g);
-    mju_quat2Mat(d->geom_xmat + 9 * g, q);
+    geom_pose_from_body(m, g, d->xpos + 3 * b, d->xquat + 4 * b, d->xmat + 9 * b,
+                        d->geom_xpos + 3 * g, d->geom_xmat + 9 * g);
   }
 }
 
 int ValidityChecker::collide(const GeomPair& p, double margin) {
-  const mjModel* m = m_;
-  const int g1 = p.g1, g2 = p.g2;
-  if (!((m->geom_contype[g1] & m->geom_conaffinity[g2]) ||
-        (m->geom_contype[g2] & m->geom_conaffinity[g1]))) {
-    return 0;
-  }
-  // Bounding spheres, as mj_collideGeoms does (planes have rbound 0 and skip this).
-  if (m->geom_rbound[g1] > 0 && m->geom_rbound[g2] > 0) {
-    const double* a = d_->geom_xpos + 3 * g1;
-    const double* b = d_->geom_xpos + 3 * g2;
-    const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    const double bound = m->geom_rbound[g1] + m->geom_rbound[g2] + margin;
-    if (dx * dx + dy * dy + dz * dz > bound * bound) return 0;
-  }
-  mjfCollision fn = mjCOLLISIONFUNC[m->geom_type[g1]][m->geom_type[g2]];
-  if (!fn) return 0;
-  ++narrow_calls_;
-  return fn(m, d_, scratch_, g1, g2, margin);
+  return collide_geoms(m_, d_, p, margin, scratch_, &narrow_calls_);
 }
 
 bool ValidityChecker::pair_in_contact(const GeomPair& p, double tolerance) {
@@ -267,42 +286,13 @@ void ValidityChecker::update_moving_kinematics() {
   mjData* d = d_;
   for (int b : moving_bodies_) {
     const int parent = m->body_parentid[b];
-    double* xpos = d->xpos + 3 * b;
-    double* xquat = d->xquat + 4 * b;
-    // Body frame in the parent.
-    mju_rotVecMat(xpos, m->body_pos + 3 * b, d->xmat + 9 * parent);
-    mju_addTo3(xpos, d->xpos + 3 * parent);
-    mju_mulQuat(xquat, d->xquat + 4 * parent, m->body_quat + 4 * b);
-    for (int k = 0; k < m->body_jntnum[b]; ++k) {
-      const int j = m->body_jntadr[b] + k;
-      const double q = d->qpos[m->jnt_qposadr[j]] - m->qpos0[m->jnt_qposadr[j]];
-      double xmat[9], xaxis[3], xanchor[3];
-      mju_quat2Mat(xmat, xquat);
-      mju_rotVecMat(xanchor, m->jnt_pos + 3 * j, xmat);
-      mju_addTo3(xanchor, xpos);
-      mju_rotVecMat(xaxis, m->jnt_axis + 3 * j, xmat);
-      if (m->jnt_type[j] == mjJNT_SLIDE) {
-        mju_addToScl3(xpos, xaxis, q);
-      } else {  // hinge: rotate about the anchor
-        double qloc[4], vec[3];
-        mju_axisAngle2Quat(qloc, m->jnt_axis + 3 * j, q);
-        double tmp[4];
-        mju_mulQuat(tmp, xquat, qloc);
-        mju_copy4(xquat, tmp);
-        mju_rotVecQuat(vec, m->jnt_pos + 3 * j, xquat);
-        mju_sub3(xpos, xanchor, vec);
-      }
-    }
-    mju_normalize4(xquat);
-    mju_quat2Mat(d->xmat + 9 * b, xquat);
+    body_pose_from_parent(m, d->qpos, b, d->xpos + 3 * parent, d->xquat + 4 * parent,
+                          d->xmat + 9 * parent, d->xpos + 3 * b, d->xquat + 4 * b, d->xmat + 9 * b);
   }
   for (int g : moving_geoms_) {
     const int b = m->geom_bodyid[g];
-    mju_rotVecMat(d->geom_xpos + 3 * g, m->geom_pos + 3 * g, d->xmat + 9 * b);
-    mju_addTo3(d->geom_xpos + 3 * g, d->xpos + 3 * b);
-    double q[4];
-    mju_mulQuat(q, d->xquat + 4 * b, m->geom_quat + 4 * g);
-    mju_quat2Mat(d->geom_xmat + 9 * g, q);
+    geom_pose_from_body(m, g, d->xpos + 3 * b, d->xquat + 4 * b, d->xmat + 9 * b,
+                        d->geom_xpos + 3 * g, d->geom_xmat + 9 * g);
   }
 }
 

@@ -47,6 +47,14 @@ std::string describe_robot_contacts(const Scene& scene, const mjModel* m, mjData
 bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjContact& c,
                                const std::vector<Attachment>& attachments);
 
+// The validity checker's test of one geom pair as posed in `d`, within `margin`: collision
+// bits first, then bounding spheres (as MuJoCo's mj_collideGeoms), then, for a box, the other
+// geom's bounding sphere against the box itself, then MuJoCo's narrow-phase function. Returns
+// the number of contacts written to `out` (room for mjMAXCONPAIR), with their geom ids set;
+// `narrow_calls`, if given, counts the narrow-phase calls.
+int collide_geoms(const mjModel* m, mjData* d, const GeomPair& p, double margin, mjContact* out,
+                  std::uint64_t* narrow_calls = nullptr);
+
 // Reference check on the worker's full model and data: runs mj_kinematics and
 // mj_collision with data->qpos as it is.
 // With attachments, their objects are first moved to their holders (mj_kinematics twice).

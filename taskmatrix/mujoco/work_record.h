@@ -35,8 +35,9 @@ std::string path_digest(const std::vector<std::vector<double>>& path);
 
 struct WorkRecord {
   std::vector<PlanCallRecord> plans;
-  int ik_calls = 0;  // solve_ik calls by programs (IK inside plan_to_poses is in `plans`)
-  double ik_time_s = 0;
+  // Every IK solve: the programs' solve_ik calls and one per target pose plan_to_poses tried.
+  int ik_calls = 0;
+  double ik_time_s = 0;  // of the programs' solve_ik calls (plan_to_poses' IK is in `plans`)
   // Validity checks: the planners' (states and motion steps) plus is_valid calls.
   std::uint64_t collision_checks = 0;
   // Execution: control periods simulated and the wall time spent stepping them (physics,
@@ -44,6 +45,10 @@ struct WorkRecord {
   long control_periods = 0;
   double stepping_wall_s = 0;
   double monitoring_wall_s = 0;
+  // Contact detection while stepping: passes (one per timestep in physics, one per control
+  // period in kinematic mode) and the contacts they found, summed.
+  long contact_passes = 0;
+  long contacts = 0;
   // The executed motion of the robot's joints (all chains, base included).
   double path_length_joint = 0;  // sum over periods of |q(t) - q(t - T)| (rad and m mixed)
   double path_length_ee_m = 0;   // sum over end effectors of their Cartesian path length

@@ -155,6 +155,32 @@ TEST_F(ScenarioFiles, SuitesOverrideEveryScenario) {
   EXPECT_THROW(apply_overrides(plan, o), core::InputError);
 }
 
+TEST_F(ScenarioFiles, ExecutionModeIsCheckedAndOverridden) {
+  const std::string r(kReach);
+  EXPECT_EQ(load_run_plan(write("p.yaml", r), test::catalog(), registry_).scenarios[0].execution,
+            "physics");
+  write("k.yaml", r + "execution: kinematic\n");
+  EXPECT_EQ(load_run_plan(dir_ / "k.yaml", test::catalog(), registry_).scenarios[0].execution,
+            "kinematic");
+  const std::string bad = error_of(r + "execution: kinetic\n");
+  EXPECT_NE(bad.find("bad.yaml:5: execution: must be physics or kinematic, not 'kinetic'"),
+            std::string::npos)
+      << bad;
+  // A suite's key replaces every scenario's; the command line's replaces the suite's.
+  RunPlan plan = load_run_plan(write("suite.yaml",
+                                     "suite: s\nscenarios: [p.yaml, k.yaml]\n"
+                                     "execution: physics\n"),
+                               test::catalog(), registry_);
+  EXPECT_EQ(plan.scenarios[1].execution, "physics");
+  RunOverrides o;
+  o.execution = "kinematic";
+  apply_overrides(plan, o);
+  EXPECT_EQ(plan.scenarios[0].execution, "kinematic");
+  EXPECT_EQ(plan.scenarios[1].execution, "kinematic");
+  o.execution = "fast";
+  EXPECT_THROW(apply_overrides(plan, o), core::InputError);
+}
+
 TEST_F(ScenarioFiles, InlineMachinesBecomePrograms) {
   const auto file = write("m.yaml", R"(machine:
   name: reach_and_grasp

@@ -146,6 +146,45 @@ TEST_P(SkillsetOnBothRobots, IkReachesSampledPosesAndReportsUnreachableOnes) {
   EXPECT_GT(p.ik_time_s, 0);
 }
 
+TEST_P(SkillsetOnBothRobots, IkStopsEarlyAndCountsEveryCall) {
+  const Chains chains = {"right_arm"};
+  const std::string palm = skills().profile().find_hand("right")->palm;
+  // Beyond the arm's reach from its first joint: answered without iterating.
+  core::Pose far = skills().frame_pose(palm);
+  far.position += Eigen::Vector3d(2.0, 0, 0);
+  const core::IkResult out = skills().solve_ik(chains, palm, far, {});
+  EXPECT_EQ(out.status, core::IkStatus::kUnreachable);
+  EXPECT_EQ(out.iterations, 0);
+  EXPECT_NE(out.reason.find("out of reach"), std::string::npos) << out.reason;
+  // Where the palm is, turned upside down: within reach, and (unless the arm can turn it)
+  // starts stop when their error stalls, long before their 150 iterations.
+  core::Pose behind = skills().frame_pose(palm);
+  behind.orientation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())) * behind.orientation;
+  core::IkOptions stalling, patient;
+  patient.stall_iterations = 0;
+  const core::IkResult quick = skills().solve_ik(chains, palm, behind, stalling);
+  const core::IkResult slow = skills().solve_ik(chains, palm, behind, patient);
+  EXPECT_EQ(quick.status, slow.status) << quick.reason << " / " << slow.reason;
+  if (slow.status != core::IkStatus::kSolved) {
+    EXPECT_EQ(slow.iterations, (patient.restarts + 1) * patient.max_iterations);
+    EXPECT_LT(quick.iterations * 3, slow.iterations);
+  }
+  // Reachable targets are solved either way, from the start nearest the current configuration.
+  for (int k = 0; k < 5; ++k) {
+    const std::vector<double> q = valid_configuration(skills(), chains, 500 + k);
+    const core::Pose target = skills().frame_pose_at(chains, q, palm);
+    const core::IkResult a = skills().solve_ik(chains, palm, target, stalling);
+    ASSERT_EQ(a.status, core::IkStatus::kSolved) << a.reason;
+  }
+  // Every IK solve is counted, the ones inside plan_to_poses too.
+  const int before = skills_->work().ik_calls;
+  core::PlanOptions plan;
+  plan.time_limit_s = 5;
+  skills().plan_to_poses(chains, palm, {far, far, far}, plan, {});
+  EXPECT_EQ(skills_->work().ik_calls, before + 3);
+}
+
 TEST_P(SkillsetOnBothRobots, SeveralTargetPosesAreTriedInTurn) {
   const Chains chains = {"left_arm"};
   const std::string palm = skills().profile().find_hand("left")->palm;

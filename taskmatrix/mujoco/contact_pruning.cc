@@ -1,0 +1,178 @@
+#include "taskmatrix/mujoco/contact_pruning.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "taskmatrix/mujoco/body_kinematics.h"
+
+namespace taskmatrix::mujoco {
+
+ContactPruning::ContactPruning(const Scene& scene, const mjModel* m, ContactPruningOptions options)
+    : options_(options) {
+  contype_.assign(m->geom_contype, m->geom_contype + m->ngeom);
+  conaffinity_.assign(m->geom_conaffinity, m->geom_conaffinity + m->ngeom);
+  margin_.assign(m->geom_margin, m->geom_margin + m->ngeom);
+  rbound_.assign(m->geom_rbound, m->geom_rbound + m->ngeom);
+  std::vector<char> slot_geom(m->ngeom, 0);
+  for (const ObstacleSlot& s : scene.obstacle_slots()) {
+    for (int g : s.geoms) slot_geom[g] = 1;
+  }
+  std::vector<int> tree_of_root(m->nbody, -1);
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (!contype_[g] && !conaffinity_[g]) continue;
+    const int body = m->geom_bodyid[g];
+    if (m->body_weldid[body] == 0) {  // static
+      if (options_.gate_large_static_boxes && !slot_geom[g] && m->geom_type[g] == mjGEOM_BOX &&
+          m->geom_rbound[g] >= kLargeBoxRadiusM) {
+        boxes_.push_back({g});
+      }
+      continue;
+    }
+    const int root = m->body_rootid[body];
+    if (tree_of_root[root] < 0) {
+      tree_of_root[root] = static_cast<int>(trees_.size());
+      Tree t;
+      t.root = root;
+      if (m->body_jntnum[root] == 1 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE &&
+          !scene.is_robot_body(root)) {
+        t.free_object = true;
+        t.qpos = m->jnt_qposadr[m->body_jntadr[root]];
+        t.dof = m->jnt_dofadr[m->body_jntadr[root]];
+      }
+      trees_.push_back(t);
+    }
+    trees_[tree_of_root[root]].geoms.push_back(g);
+  }
+  rest_steps_needed_ = std::max(1, static_cast<int>(std::lround(kRestTimeS / m->opt.timestep)));
+}
+
+void ContactPruning::set_bits(mjModel* m, int geom, bool on) const {
+  m->geom_contype[geom] = on ? contype_[geom] : 0;
+  m->geom_conaffinity[geom] = on ? conaffinity_[geom] : 0;
+}
+
+void ContactPruning::set_tree_bits(mjModel* m, const Tree& t, bool on) const {
+  for (int g : t.geoms) set_bits(m, g, on);
+}
+
+void ContactPruning::begin(mjModel* m) {
+  active_ = true;
+  for (const Tree& t : trees_) {
+    if (t.asleep) set_tree_bits(m, t, false);
+  }
+  for (const Box& b : boxes_) {
+    if (b.closed) set_bits(m, b.geom, false);
+  }
+}
+
+void ContactPruning::end(mjModel* m) {
+  active_ = false;
+  for (const Tree& t : trees_) {
+    if (t.asleep) set_tree_bits(m, t, true);
+  }
+  for (const Box& b : boxes_) set_bits(m, b.geom, true);
+}
+
+void ContactPruning::wake_all() {
+  for (Tree& t : trees_) {
+    t.asleep = false;
+    t.rest_steps = 0;
+  }
+  for (Box& b : boxes_) b.closed = false;
+}
+
+void ContactPruning::set_held(int body, bool held) {
+  for (Tree& t : trees_) {
+    if (t.root != body) continue;
+    t.held = held;
+    t.asleep = false;
+    t.rest_steps = 0;
+  }
+}
+
+int ContactPruning::sleeping() const {
+  return static_cast<int>(
+      std::count_if(trees_.begin(), trees_.end(), [](const Tree& t) { return t.asleep; }));
+}
+
+int ContactPruning::closed_boxes() const {
+  return static_cast<int>(
+      std::count_if(boxes_.begin(), boxes_.end(), [](const Box& b) { return b.closed; }));
+}
+
+void ContactPruning::bound(Tree& t, const mjData* d) const {
+  const double* c = d->xpos + 3 * t.root;
+  mju_copy3(t.center, c);
+  t.radius = 0;
+  for (int g : t.geoms) {
+    t.radius = std::max(t.radius, mju_dist3(d->geom_xpos + 3 * g, c) + rbound_[g] + margin_[g]);
+  }
+}
+
+bool ContactPruning::something_near(const double* c, double r, const Tree* except,
+                                    const mjData* d) const {
+  for (const Tree& t : trees_) {
+    if (&t == except || t.asleep) continue;
+    if (mju_dist3(t.center, c) > t.radius + r + kStepAllowanceM) continue;
+    for (int g : t.geoms) {
+      if (mju_dist3(d->geom_xpos + 3 * g, c) <= rbound_[g] + margin_[g] + r + kStepAllowanceM) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool ContactPruning::box_needed(const mjModel* m, int box, const mjData* d) const {
+  for (const Tree& t : trees_) {
+    if (t.asleep) continue;
+    if (sphere_clear_of_box(m, d, box, t.center, t.radius + margin_[box] + kStepAllowanceM)) {
+      continue;
+    }
+    for (int g : t.geoms) {
+      const double reach = rbound_[g] + std::max(margin_[g], margin_[box]) + kStepAllowanceM;
+      if (!sphere_clear_of_box(m, d, box, d->geom_xpos + 3 * g, reach)) return true;
+    }
+  }
+  return false;
+}
+
+void ContactPruning::before_collision(mjModel* m, const mjData* d) {
+  for (Tree& t : trees_) {
+    if (!t.asleep) bound(t, d);
+  }
+  for (Tree& t : trees_) {
+    if (!t.asleep || !something_near(t.center, t.radius, &t, d)) continue;
+    t.asleep = false;
+    t.rest_steps = 0;
+    if (active_) set_tree_bits(m, t, true);
+    bound(t, d);
+  }
+  for (Box& b : boxes_) {
+    const bool closed = !box_needed(m, b.geom, d);
+    if (closed != b.closed && active_) set_bits(m, b.geom, !closed);
+    b.closed = closed;
+  }
+}
+
+void ContactPruning::after_integration(mjModel* m, mjData* d) {
+  for (Tree& t : trees_) {
+    if (!t.free_object) continue;
+    double* qvel = d->qvel + t.dof;
+    if (t.asleep) {  // held exactly where it fell asleep
+      mju_copy(d->qpos + t.qpos, t.sleep_qpos, 7);
+      mju_zero(qvel, 6);
+      continue;
+    }
+    if (!options_.sleep_resting_objects || t.held) continue;
+    const bool resting = mju_norm3(qvel) < kRestSpeed && mju_norm3(qvel + 3) < kRestAngularSpeed;
+    t.rest_steps = resting ? t.rest_steps + 1 : 0;
+    if (t.rest_steps < rest_steps_needed_ || something_near(t.center, t.radius, &t, d)) continue;
+    t.asleep = true;
+    mju_copy(t.sleep_qpos, d->qpos + t.qpos, 7);
+    mju_zero(qvel, 6);
+    if (active_) set_tree_bits(m, t, false);
+  }
+}
+
+}  // namespace taskmatrix::mujoco

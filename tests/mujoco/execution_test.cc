@@ -1,0 +1,215 @@
+// The two execution modes of the skillset and the physics' contact pruning: what a user of
+// the simulation would notice (poses, contacts, where a released object ends up), on both
+// robots in the kitchen.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+#include "tests/test_support.h"
+
+namespace taskmatrix::mujoco {
+namespace {
+
+using Chains = std::vector<std::string>;
+
+std::unique_ptr<MujocoSkillset> make_skills(const std::string& robot, SimulationOptions options) {
+  auto skills = std::make_unique<MujocoSkillset>(test::scene(robot, "kitchen"), options);
+  skills->apply_layout(skills->scene().make_layout(8, 5));
+  skills->reset();
+  return skills;
+}
+
+// A collision-free configuration of the side's arm and the torso that brings the palm to
+// `position` (its orientation free).
+std::vector<double> palm_at(MujocoSkillset& skills, const std::string& side,
+                            const Eigen::Vector3d& position) {
+  const std::string palm = skills.profile().find_hand(side)->palm;
+  core::Pose target = skills.frame_pose(palm);
+  target.position = position;
+  core::IkOptions ik;
+  ik.orientation = false;
+  const core::IkResult r = skills.solve_ik({side + "_arm", "torso"}, palm, target, ik);
+  EXPECT_EQ(r.status, core::IkStatus::kSolved) << r.reason;
+  return r.solutions.empty() ? std::vector<double>{} : r.solutions.front();
+}
+
+// The palm 18 cm above the cup.
+std::vector<double> arm_over_the_cup(MujocoSkillset& skills, const std::string& side) {
+  return palm_at(skills, side, skills.frame_pose("cup").position + Eigen::Vector3d(0, 0, 0.18));
+}
+
+// Plans and executes a motion of the chains to `goal`.
+void move_to(MujocoSkillset& skills, const Chains& chains, const std::vector<double>& goal) {
+  core::PlanOptions options;
+  options.time_limit_s = 10;
+  const core::PlanResult plan = skills.plan_to_configuration(chains, goal, options);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  const core::ExecutionReport report =
+      skills.execute(chains, skills.time_parameterize(chains, plan.path));
+  ASSERT_TRUE(report.success()) << report.message;
+}
+
+class ExecutionOnBothRobots : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ExecutionOnBothRobots, ClosingLargeStaticBoxesChangesNothing) {
+  // The same motions with and without the walls' gate: bit-identical states every period
+  // (resting objects stay awake in both, so only the gate differs).
+  SimulationOptions gated, plain;
+  gated.pruning = {true, false};
+  plain.pruning = {false, false};
+  auto a = make_skills(GetParam(), gated);
+  auto b = make_skills(GetParam(), plain);
+  a->set_visitor_walk(1.0);
+  b->set_visitor_walk(1.0);
+  const Chains chains = {"right_arm", "torso"};
+  const std::vector<double> goal = arm_over_the_cup(*a, "right");
+  ASSERT_FALSE(goal.empty());
+  core::PlanOptions options;
+  options.time_limit_s = 10;
+  const core::PlanResult plan = a->plan_to_configuration(chains, goal, options);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  const core::Trajectory motion = a->time_parameterize(chains, plan.path);
+  int closed = 0;
+  for (int k = 0; k * a->control_period() < motion.duration() + 0.5; ++k) {
+    const core::TrajectorySample s = motion.sample(k * a->control_period());
+    const std::vector<double> q(s.position.data(), s.position.data() + s.position.size());
+    const std::vector<double> v(s.velocity.data(), s.velocity.data() + s.velocity.size());
+    a->command(chains, q, v);
+    b->command(chains, q, v);
+    a->advance();
+    b->advance();
+    closed = std::max(closed, a->pruning().closed_boxes());
+    const mjModel* m = a->model();
+    for (int i = 0; i < m->nq; ++i) {
+      ASSERT_EQ(a->sim_data()->qpos[i], b->sim_data()->qpos[i]) << "qpos " << i << " period " << k;
+    }
+    ASSERT_EQ(a->sim_data()->ncon, b->sim_data()->ncon) << "period " << k;
+  }
+  EXPECT_GT(closed, 0) << "no large static box was ever closed";
+  EXPECT_EQ(b->pruning().closed_boxes(), 0);
+}
+
+TEST_P(ExecutionOnBothRobots, RestingObjectsSleepUntilSomethingComesNear) {
+  SimulationOptions options;  // physics, every pruning on
+  auto skills = make_skills(GetParam(), options);
+  // Standing still: the objects settle and fall asleep; contacts per step drop to the robot's
+  // own (standing on nothing: none at all).
+  for (int k = 0; k < 50; ++k) skills->advance();
+  EXPECT_EQ(skills->pruning().sleeping(), 3) << "cup, box and vacuum";
+  const long passes = skills->work().contact_passes, contacts = skills->work().contacts;
+  for (int k = 0; k < 20; ++k) skills->advance();
+  EXPECT_EQ(skills->work().contacts - contacts, 0)
+      << "over " << skills->work().contact_passes - passes;
+  const Eigen::Vector3d cup = skills->frame_pose("cup").position;
+  // Reaching over the cup wakes it (and it has not moved while it slept).
+  const std::vector<double> goal = arm_over_the_cup(*skills, "right");
+  ASSERT_FALSE(goal.empty());
+  int fewest = 3;
+  core::PlanOptions plan_options;
+  plan_options.time_limit_s = 10;
+  const Chains chains = {"right_arm", "torso"};
+  const core::PlanResult plan = skills->plan_to_configuration(chains, goal, plan_options);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  const core::Trajectory motion = skills->time_parameterize(chains, plan.path);
+  for (int k = 0; k * skills->control_period() < motion.duration(); ++k) {
+    const core::TrajectorySample s = motion.sample(k * skills->control_period());
+    skills->command(chains, {s.position.data(), s.position.data() + s.position.size()},
+                    {s.velocity.data(), s.velocity.data() + s.velocity.size()});
+    skills->advance();
+    fewest = std::min(fewest, skills->pruning().sleeping());
+  }
+  EXPECT_LT(fewest, 3) << "nothing woke";
+  EXPECT_LT((skills->frame_pose("cup").position - cup).norm(), 1e-3);
+}
+
+TEST_P(ExecutionOnBothRobots, KinematicModeSetsTheCommandedConfiguration) {
+  SimulationOptions options;
+  options.execution = ExecutionMode::kKinematic;
+  auto skills = make_skills(GetParam(), options);
+  EXPECT_EQ(skills->execution(), ExecutionMode::kKinematic);
+  const Chains chains = {"right_arm", "torso"};
+  const std::vector<double> goal = arm_over_the_cup(*skills, "right");
+  ASSERT_FALSE(goal.empty());
+  core::PlanOptions plan_options;
+  plan_options.time_limit_s = 10;
+  const core::PlanResult plan = skills->plan_to_configuration(chains, goal, plan_options);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  const core::Trajectory motion = skills->time_parameterize(chains, plan.path);
+  const Eigen::Vector3d cup = skills->frame_pose("cup").position;
+  const double t0 = skills->time();
+  for (int k = 1; k * skills->control_period() <= motion.duration() + 1e-9; ++k) {
+    const core::TrajectorySample s = motion.sample(k * skills->control_period());
+    const std::vector<double> q(s.position.data(), s.position.data() + s.position.size());
+    skills->command(chains, q, {s.velocity.data(), s.velocity.data() + s.velocity.size()});
+    skills->advance();
+    ASSERT_EQ(skills->configuration(chains), q) << "period " << k;
+    ASSERT_NEAR(skills->time() - t0, k * skills->control_period(), 1e-9);
+  }
+  // Nothing else moved; the tracking is exact; the measures are those of the physics.
+  EXPECT_EQ(skills->frame_pose("cup").position, cup);
+  EXPECT_GT(skills->work().path_length_joint, 0.1);
+  EXPECT_GT(skills->work().path_length_ee_m, 0.05);
+  EXPECT_TRUE(std::isfinite(skills->work().jerk_rms()));
+  EXPECT_GT(skills->work().clearance_samples, 0);
+  EXPECT_GT(skills->work().contact_passes, 0);
+
+  // A straight, unplanned motion into the table is stopped as a collision naming both.
+  std::mt19937_64 rng(12);
+  const Chains arm = {"right_arm"};
+  std::vector<double> into;
+  std::uniform_real_distribution<double> u(0, 1);
+  const core::ChainInfo& c = skills->chain("right_arm");
+  for (int k = 0; k < 5000 && into.empty(); ++k) {
+    std::vector<double> q;
+    for (size_t i = 0; i < c.joints.size(); ++i)
+      q.push_back(c.lower[i] + (c.upper[i] - c.lower[i]) * u(rng));
+    if (!skills->is_valid(arm, q)) into = q;
+  }
+  ASSERT_FALSE(into.empty());
+  const core::ExecutionReport report =
+      skills->execute(arm, skills->time_parameterize(arm, {skills->configuration(arm), into}));
+  EXPECT_EQ(report.status, core::ExecutionStatus::kCollision) << report.message;
+  ASSERT_TRUE(report.collision.has_value());
+  EXPECT_FALSE(report.collision->other.empty());
+}
+
+TEST_P(ExecutionOnBothRobots, KinematicReleaseDropsTheObjectOntoWhatIsBelow) {
+  SimulationOptions options;
+  options.execution = ExecutionMode::kKinematic;
+  auto skills = make_skills(GetParam(), options);
+  const double z_rest = skills->frame_pose("cup").position.z();
+  const Chains chains = {"right_arm", "torso"};
+  const std::vector<double> over = arm_over_the_cup(*skills, "right");
+  ASSERT_FALSE(over.empty());
+  move_to(*skills, chains, over);
+  // Held 18 cm below the palm, lifted by 8 cm.
+  skills->attach("cup", "right");
+  const std::string palm = skills->profile().find_hand("right")->palm;
+  const std::vector<double> lifted =
+      palm_at(*skills, "right", skills->frame_pose(palm).position + Eigen::Vector3d(0, 0, 0.08));
+  ASSERT_FALSE(lifted.empty());
+  move_to(*skills, chains, lifted);
+  const Eigen::Vector3d held = skills->frame_pose("cup").position;
+  ASSERT_GT(held.z(), z_rest + 0.02) << "the cup was lifted";
+  const std::vector<double> robot = skills->configuration(chains);
+  const double t = skills->time();
+  skills->detach("cup");
+  // On the table again, below where it was let go, upright; the robot and the clock unchanged.
+  const core::Pose cup = skills->frame_pose("cup");
+  EXPECT_NEAR(cup.position.z(), z_rest, 0.01);
+  EXPECT_LT(std::hypot(cup.position.x() - held.x(), cup.position.y() - held.y()), 0.05);
+  EXPECT_LT((cup.orientation * Eigen::Vector3d::UnitZ()).z(), 1.0 + 1e-9);
+  EXPECT_GT((cup.orientation * Eigen::Vector3d::UnitZ()).z(), 0.95);
+  EXPECT_EQ(skills->configuration(chains), robot);
+  EXPECT_EQ(skills->time(), t);
+  // And it stays there.
+  for (int k = 0; k < 20; ++k) skills->advance();
+  EXPECT_LT((skills->frame_pose("cup").position - cup.position).norm(), 1e-12);
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, ExecutionOnBothRobots, ::testing::Values("tallbot", "minibot"));
+
+}  // namespace
+}  // namespace taskmatrix::mujoco
