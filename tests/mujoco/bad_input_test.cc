@@ -100,6 +100,32 @@ std::vector<BadInputCase> cases() {
          r.replace(kProfile, "{joints: [HeadYaw]}", "{joints: [TorsoPitch]}");
        },
        {"profile.yaml", "already in chain"}},
+      {"ProfileWithoutTheWave",
+       "minibot",
+       [](const ScratchRoot& r) { r.replace(kProfile, "  wave:\n", "  waving:\n"); },
+       {"profile.yaml", "canned: missing required canned motion 'wave'"}},
+      {"ProfileWaveNotFromWaveStart",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "      - [0, 0, -1.3, -1.5708, -1.6, 0]",
+                   "      - [0, 0, -1.3, -1.5708, -1.5, 0]");
+       },
+       {"profile.yaml", "canned.wave.keyframes[0]: must equal postures.wave_start"}},
+      {"HeadCameraLooksBackwards",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kMjcf, "xyaxes=\"0 -1 0 0.5 0 0.8660254037844386\"",
+                   "xyaxes=\"0 1 0 -0.5 0 0.8660254037844386\"");
+       },
+       {"profile.yaml", "head_camera",
+        "'HeadCam' looks 150 degrees away from the robot's forward"}},
+      {"HeadCameraUpsideDown",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kMjcf, "xyaxes=\"0 -1 0 0.5 0 0.8660254037844386\"",
+                   "xyaxes=\"0 1 0 0.5 0 -0.8660254037844386\"");
+       },
+       {"profile.yaml", "head_camera", "is not upright"}},
       {"ProfileNotYaml",
        "minibot",
        [](const ScratchRoot& r) { r.write(kProfile, "chains: [unclosed\n"); },
