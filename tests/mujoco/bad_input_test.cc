@@ -192,7 +192,7 @@ TEST(BadInput, UnknownRobotListsTheKnownOnes) {
   const CommandResult r =
       run_cli("render --robot nobody --env kitchen --out /tmp/never.png", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("unknown robot 'nobody' (known: minibot, minibot_urdf, tallbot)"),
+  EXPECT_NE(r.err.find("unknown robot 'nobody' (known: atlas, minibot, minibot_urdf, tallbot)"),
             std::string::npos)
       << r.err;
 }
