@@ -9,6 +9,8 @@
 #include <random>
 #include <set>
 
+#include "taskmatrix/mujoco/kinematics.h"
+
 namespace taskmatrix::mujoco {
 
 const char* to_string(RobotFinding::Level level) {
@@ -86,20 +88,10 @@ class Probe {
   }
 
   Vec3 position(const std::string& frame) const {
-    const FrameRef f = scene_.frame(frame);
-    const mjtNum* p = f.kind == FrameRef::Kind::kSite   ? d_->site_xpos + 3 * f.id
-                      : f.kind == FrameRef::Kind::kBody ? d_->xpos + 3 * f.id
-                                                        : d_->cam_xpos + 3 * f.id;
-    return {p[0], p[1], p[2]};
+    return frame_pose(d_.get(), scene_.frame(frame)).position;
   }
   Mat3 rotation(const std::string& frame) const {
-    const FrameRef f = scene_.frame(frame);
-    const mjtNum* r = f.kind == FrameRef::Kind::kSite   ? d_->site_xmat + 9 * f.id
-                      : f.kind == FrameRef::Kind::kBody ? d_->xmat + 9 * f.id
-                                                        : d_->cam_xmat + 9 * f.id;
-    Mat3 out;
-    out << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
-    return out;
+    return frame_pose(d_.get(), scene_.frame(frame)).orientation.toRotationMatrix();
   }
   int frame_body(const std::string& frame) const {
     const FrameRef f = scene_.frame(frame);
