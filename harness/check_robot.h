@@ -7,7 +7,7 @@
 // runner, printing one line per program.
 //
 // Exit status: 0 no lint error and every program succeeded; 1 a lint error (nothing run);
-// 4 no lint error but a program failed; 2 bad input (unknown names, options).
+// 4 no lint error but a program failed; 2 bad input (unknown names, options); 130 interrupted.
 #pragma once
 
 #include <filesystem>

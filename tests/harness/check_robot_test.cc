@@ -129,8 +129,11 @@ TEST(CheckRobot, QuickRunPrintsAProgramTableAndExitsFourOnAFailure) {
   EXPECT_NE(r.out.find("Programs: 1 of 2 succeeded."), std::string::npos) << r.out;
   // The run stays for inspection, in its own directory.
   const std::filesystem::path run = root.path() / "results/runs/check-robot-minibot-office";
-  EXPECT_TRUE(std::filesystem::exists(run / "trials.jsonl"));
   EXPECT_TRUE(std::filesystem::exists(run / "summary.md"));
+  // In the environment asked for, whatever the scenarios list.
+  const std::string trials = root.read("results/runs/check-robot-minibot-office/trials.jsonl");
+  EXPECT_NE(trials.find("\"trial_id\":\"postural.minibot.office."), std::string::npos) << trials;
+  EXPECT_EQ(trials.find(".kitchen."), std::string::npos) << trials;
 }
 
 TEST(CheckRobot, UnknownNamesAreBadInput) {
