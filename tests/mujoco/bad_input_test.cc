@@ -211,7 +211,7 @@ TEST(BadInput, CommandLineMistakesAreOneLineToo) {
 TEST(Cli, ListPrintsOneNamePerLine) {
   const CommandResult robots = run_cli("list robots", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(robots.exit_code, 0);
-  EXPECT_EQ(robots.out, "minibot\nminibot_urdf\ntallbot\n");
+  EXPECT_EQ(robots.out, "atlas\nminibot\nminibot_urdf\ntallbot\n");
   const CommandResult envs = run_cli("list environments", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(envs.exit_code, 0);
   EXPECT_EQ(envs.out, "kitchen\noffice\n");
