@@ -361,6 +361,8 @@ void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
                              "layout_seed + trials - 1 must stay within 2^64 - 1");
     }
     if (!overrides.execution.empty()) s.execution = overrides.execution;
+    if (!overrides.robots.empty()) s.robots = overrides.robots;
+    if (!overrides.environments.empty()) s.environments = overrides.environments;
     if (static_cast<std::uint64_t>(s.seed) + static_cast<std::uint64_t>(s.trials) - 1 >
         0xffffffffULL) {
       throw core::InputError("--seed", "",

@@ -93,6 +93,8 @@ struct RunOverrides {
   std::uint32_t seed = 0;             // 0: keep
   std::vector<std::string> planners;  // empty: keep
   std::string execution;              // empty: keep; else "physics" or "kinematic"
+  // Empty: keep. Names are checked when the scenes are loaded (taskmatrix check-robot).
+  std::vector<std::string> robots, environments;
 };
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides);
 
