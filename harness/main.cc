@@ -1,9 +1,10 @@
-// The `taskmatrix` command line. Verbs: list, validate, run, render, scenes, compare,
+// The `taskmatrix` command line. Verbs: list, validate, run, merge, render, scenes, compare,
 // bench-compare. Every failure is one line on stderr and a non-zero exit status (2 for bad
 // input; 1 for a regression when asked to fail on one).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -13,6 +14,7 @@
 
 #include "harness/bench_compare.h"
 #include "harness/compare_job.h"
+#include "harness/merge_job.h"
 #include "harness/model_catalog.h"
 #include "harness/replay.h"
 #include "harness/run_job.h"
@@ -199,7 +201,7 @@ int main(int argc, char** argv) {
   validate->add_option("SCENARIO", validate_file, "scenario or suite YAML")->required();
 
   taskmatrix::harness::RunJobOptions run_options;
-  std::string run_out, planners_list, progress = "auto";
+  std::string run_out, planners_list, progress = "auto", shard_spec;
   long long run_seed = 0;
   CLI::App* run = app.add_subcommand(
       "run", "Run a scenario or suite: trials in parallel workers, results in a run directory");
@@ -217,7 +219,13 @@ int main(int argc, char** argv) {
                   "planners, comma separated (replaces the scenario's)");
   run->add_flag("--resume", run_options.resume,
                 "keep the trials already in the run directory, run the rest");
-  run->add_option("--only", run_options.only, "run one trial by its id and print its result line");
+  CLI::Option* only_option = run->add_option("--only", run_options.only,
+                                             "run one trial by its id and print its result line");
+  run->add_option("--shard", shard_spec,
+                  "I/N: run only the trials whose matrix index is I mod N (default in a Slurm "
+                  "array task: SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN of "
+                  "SLURM_ARRAY_TASK_COUNT)")
+      ->excludes(only_option);
   run->add_option("--progress", progress, "progress line on stderr: auto (on a terminal), on, off")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
@@ -225,6 +233,19 @@ int main(int argc, char** argv) {
                   "trajectory frames kept per simulated second (0: none)")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
+
+  taskmatrix::harness::MergeJobOptions merge_options;
+  std::string merge_out;
+  std::vector<std::string> merge_dirs;
+  CLI::App* merge = app.add_subcommand(
+      "merge", "Union the run directories of a sharded run (run --shard) into one run directory");
+  merge->add_option("OUT", merge_out, "the merged run directory (its old results are replaced)")
+      ->required();
+  merge->add_option("SHARD_DIR", merge_dirs, "the shards' run directories")->required();
+  merge->add_flag("--allow-partial", merge_options.allow_partial,
+                  "merge even when trials are missing or duplicated (the first copy is kept)");
+  merge->add_flag("--move", merge_options.move_trajectories,
+                  "move trajectories out of the shards instead of hard-linking them");
 
   taskmatrix::harness::BenchCompareOptions bench_options;
   std::string bench_base, bench_new;
@@ -357,13 +378,34 @@ int main(int argc, char** argv) {
           taskmatrix::harness::run_compare_job(compare_options, std::cout);
       return compare_fail && r.comparison.regression() ? 1 : 0;
     }
-    if (*validate || *run) {
+    if (*validate || *run || *merge) {
       taskmatrix::core::ProgramRegistry registry;
       taskmatrix::programs::register_programs(registry);
       if (*validate) {
         const int trials = taskmatrix::harness::validate_run_plan(catalog, registry, validate_file);
         std::cout << validate_file << ": ok, " << trials << " trials\n";
         return 0;
+      }
+      if (*merge) {
+        merge_options.out = merge_out;
+        merge_options.shard_dirs.assign(merge_dirs.begin(), merge_dirs.end());
+        merge_options.command_line.assign(argv, argv + argc);
+        const taskmatrix::harness::MergeJobResult r = taskmatrix::harness::run_merge_job(
+            catalog, registry, merge_options, std::cout, std::cerr);
+        if (r.dir.empty()) return 1;
+        std::cerr << "taskmatrix: merged " << merge_dirs.size()
+                  << " shard directories: " << r.merged << " of " << r.planned << " trials in "
+                  << r.dir.string() << " (" << r.successes << " succeeded)\n";
+        return 0;
+      }
+      if (!shard_spec.empty()) {
+        run_options.shard = taskmatrix::harness::parse_shard(shard_spec, "--shard");
+      } else if (run_options.only.empty()) {
+        if (const auto shard = taskmatrix::harness::slurm_array_shard(std::getenv)) {
+          run_options.shard = *shard;
+          std::cerr << "taskmatrix: shard " << shard->index << "/" << shard->count
+                    << " from SLURM_ARRAY_TASK_ID (--shard I/N overrides it)\n";
+        }
       }
       run_options.out = run_out;
       run_options.overrides.seed = static_cast<std::uint32_t>(run_seed);

@@ -8,10 +8,13 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <memory>
 #include <thread>
+
+#include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
 
@@ -47,32 +50,56 @@ std::string proc_field(const char* file, const std::string& key) {
   return "";
 }
 
+class Sha256 {
+ public:
+  Sha256() : ctx_(EVP_MD_CTX_new(), EVP_MD_CTX_free) {
+    EVP_DigestInit_ex(ctx_.get(), EVP_sha256(), nullptr);
+  }
+  void add(const void* data, size_t size) { EVP_DigestUpdate(ctx_.get(), data, size); }
+  std::string hex() {
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int size = 0;
+    EVP_DigestFinal_ex(ctx_.get(), digest, &size);
+    std::string out;
+    char b[3];
+    for (unsigned i = 0; i < size; ++i) {
+      std::snprintf(b, sizeof b, "%02x", digest[i]);
+      out += b;
+    }
+    return out;
+  }
+
+ private:
+  std::unique_ptr<EVP_MD_CTX, void (*)(EVP_MD_CTX*)> ctx_;
+};
+
 }  // namespace
 
 std::string plan_hash(const RunPlan& plan) {
-  std::unique_ptr<EVP_MD_CTX, void (*)(EVP_MD_CTX*)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
-  EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr);
+  Sha256 sha;
   auto add = [&](const std::string& name, const std::string& bytes) {
-    EVP_DigestUpdate(ctx.get(), name.data(), name.size() + 1);  // with its NUL
-    EVP_DigestUpdate(ctx.get(), bytes.data(), bytes.size());
+    sha.add(name.data(), name.size() + 1);  // with its NUL
+    sha.add(bytes.data(), bytes.size());
     const char nul = 0;
-    EVP_DigestUpdate(ctx.get(), &nul, 1);
+    sha.add(&nul, 1);
   };
   const std::filesystem::path base = plan.file.parent_path();
   if (plan.suite) add(plan.file.filename().string(), plan.text);
   for (const Scenario& s : plan.scenarios) {
     add(std::filesystem::relative(s.file, base).generic_string(), s.file_text);
   }
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int size = 0;
-  EVP_DigestFinal_ex(ctx.get(), digest, &size);
-  std::string hex;
-  char b[3];
-  for (unsigned i = 0; i < size; ++i) {
-    std::snprintf(b, sizeof b, "%02x", digest[i]);
-    hex += b;
+  return sha.hex();
+}
+
+std::string executable_hash() {
+  std::ifstream in("/proc/self/exe", std::ios::binary);
+  if (!in) return "unknown";
+  Sha256 sha;
+  std::array<char, 1 << 16> buf{};
+  while (in.read(buf.data(), buf.size()) || in.gcount() > 0) {
+    sha.add(buf.data(), static_cast<size_t>(in.gcount()));
   }
-  return hex;
+  return sha.hex();
 }
 
 std::string ompl_version() {
@@ -119,6 +146,7 @@ nlohmann::json make_provenance(const RunPlan& plan, const std::filesystem::path&
   p["mujoco_version"] = mujoco_version();
   p["ompl_version"] = ompl_version();
   p["compiler"] = std::string("gcc-compatible ") + __VERSION__;
+  p["executable_sha256"] = executable_hash();
   p["host"] = {{"name", host_name()},
                {"cpu", cpu_model()},
                {"cores", std::thread::hardware_concurrency()},
@@ -145,6 +173,43 @@ nlohmann::json make_provenance(const RunPlan& plan, const std::filesystem::path&
   p["jobs"] = jobs;
   p["started_at"] = utc_now_iso();
   return p;
+}
+
+nlohmann::json matrix_provenance(const RunPlan& plan, const RunOverrides& overrides,
+                                 size_t trials) {
+  return {{"file", std::filesystem::absolute(plan.file).lexically_normal().string()},
+          {"trials", trials},
+          {"overrides",
+           {{"trials", overrides.trials > 0 ? nlohmann::json(overrides.trials) : nullptr},
+            {"seed", overrides.seed > 0 ? nlohmann::json(overrides.seed) : nullptr},
+            {"planners", overrides.planners}}}};
+}
+
+RunOverrides overrides_of(const nlohmann::json& matrix, const std::string& file) {
+  RunOverrides o;
+  try {
+    const nlohmann::json& j = matrix.at("overrides");
+    if (!j.at("trials").is_null()) o.trials = j.at("trials").get<int>();
+    if (!j.at("seed").is_null()) o.seed = j.at("seed").get<std::uint32_t>();
+    o.planners = j.at("planners").get<std::vector<std::string>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw core::InputError(file, "matrix.overrides", std::string("unreadable: ") + e.what());
+  }
+  return o;
+}
+
+nlohmann::json slurm_provenance() {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, variable] :
+       std::vector<std::pair<const char*, const char*>>{{"job_id", "SLURM_JOB_ID"},
+                                                        {"array_job_id", "SLURM_ARRAY_JOB_ID"},
+                                                        {"array_task_id", "SLURM_ARRAY_TASK_ID"},
+                                                        {"cluster", "SLURM_CLUSTER_NAME"},
+                                                        {"partition", "SLURM_JOB_PARTITION"},
+                                                        {"nodes", "SLURM_JOB_NODELIST"}}) {
+    if (const char* v = std::getenv(variable)) j[key] = v;
+  }
+  return j;
 }
 
 }  // namespace taskmatrix::harness

@@ -59,7 +59,8 @@ class StopSignals {
 
 struct Prepared {
   RunPlan plan;
-  std::vector<TrialSpec> matrix;
+  std::vector<TrialSpec> matrix;  // of the shard
+  size_t whole_matrix = 0;        // trials of the whole matrix
   SceneMap scenes;
 };
 
@@ -67,15 +68,21 @@ struct Prepared {
 // bad file, model or layout request stops the run before anything is written.
 Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
                  const std::filesystem::path& file, const RunOverrides& overrides,
-                 const std::string& only) {
+                 const std::string& only, const Shard& shard) {
   Prepared p;
   if (!std::filesystem::is_regular_file(file)) {
     throw core::InputError(file.string(), "", "no such scenario or suite file");
   }
   p.plan = load_run_plan(file, catalog, registry);
   apply_overrides(p.plan, overrides);
-  p.matrix =
-      only.empty() ? trial_matrix(p.plan) : std::vector<TrialSpec>{parse_trial_id(p.plan, only)};
+  if (only.empty()) {
+    p.matrix = trial_matrix(p.plan);
+    p.whole_matrix = p.matrix.size();
+    if (shard.count > 1) p.matrix = select_shard(p.matrix, shard);
+  } else {
+    p.matrix = {parse_trial_id(p.plan, only)};
+    p.whole_matrix = 1;
+  }
   for (const TrialSpec& t : p.matrix) {
     auto& scene = p.scenes[{t.robot, t.environment}];
     if (!scene) {
@@ -162,9 +169,54 @@ OmplLogInfo ompl_info(const RunPlan& plan, const nlohmann::json& provenance, dou
 
 }  // namespace
 
+void prepare_run_directory(const std::filesystem::path& dir, bool keep_results) {
+  std::filesystem::create_directories(dir / "trajectories");
+  if (keep_results) return;
+  for (const char* name :
+       {"trials.jsonl", "summary.json", "summary.md", "ompl.log", "planners.md", "planners.html"}) {
+    std::filesystem::remove(dir / name);
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "trajectories")) {
+    std::filesystem::remove(entry.path());
+  }
+}
+
+std::string write_run_results(const std::filesystem::path& dir, const RunPlan& plan,
+                              const RunInfo& info, const std::vector<nlohmann::json>& finished,
+                              const nlohmann::json& provenance) {
+  nlohmann::json summary = make_summary(info, finished);
+  // What `compare` pairs: trials.jsonl may also hold another matrix's trials (--resume).
+  nlohmann::json ids = nlohmann::json::array();
+  for (const nlohmann::json& t : finished) ids.push_back(t.value("trial_id", std::string()));
+  summary["trial_ids"] = std::move(ids);
+  // Several planners: each against the first, on the same trials.
+  std::vector<std::string> planners;
+  for (const Scenario& s : plan.scenarios) {
+    for (const PlannerConfig& pc : s.planners) {
+      if (std::find(planners.begin(), planners.end(), pc.label) == planners.end()) {
+        planners.push_back(pc.label);
+      }
+    }
+  }
+  const std::vector<Comparison> vs_reference = compare_planners(finished, planners);
+  std::string appendix;
+  if (!vs_reference.empty()) {
+    nlohmann::json comparisons = nlohmann::json::array();
+    for (const Comparison& c : vs_reference) comparisons.push_back(comparison_json(c));
+    summary["planner_comparison"] = {{"reference", planners[0]}, {"comparisons", comparisons}};
+    appendix = planner_table_markdown(finished, planners, vs_reference);
+    write_planner_comparison(dir, plan.name, finished, planners, vs_reference);
+  }
+  write_summary(dir, summary, appendix);
+  write_file_atomically(dir / "ompl.log",
+                        ompl_log_text(ompl_info(plan, provenance, info.wall_s), finished));
+  write_file_atomically(dir / "provenance.json", provenance.dump(2) + "\n");
+  return summary_markdown(summary) + appendix;
+}
+
 int validate_run_plan(const ModelCatalog& catalog, core::ProgramRegistry& registry,
                       const std::filesystem::path& file) {
-  return static_cast<int>(prepare(catalog, registry, file, {}, "").matrix.size());
+  return static_cast<int>(prepare(catalog, registry, file, {}, "", {}).matrix.size());
 }
 
 RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registry,
@@ -172,15 +224,23 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   const Clock::time_point t_start = Clock::now();
   if (options.jobs < 1 || options.jobs > 256)
     throw core::InputError("--jobs", "", "must be in 1..256");
-  Prepared p = prepare(catalog, registry, options.scenario_file, options.overrides, options.only);
+  if (!options.only.empty() && options.shard.count > 1) {
+    throw core::InputError("--shard", "", "runs a shard of the matrix; --only runs one trial");
+  }
+  Prepared p = prepare(catalog, registry, options.scenario_file, options.overrides, options.only,
+                       options.shard);
   const RunPlan& plan = p.plan;
   RunJobResult result;
   result.planned = static_cast<int>(p.matrix.size());
 
   const bool write_dir = options.only.empty() || !options.out.empty();
   if (write_dir) {
-    result.dir =
-        options.out.empty() ? catalog.root() / "results" / "runs" / plan.name : options.out;
+    // Shards default to directories of their own, so that they never write into each other.
+    const std::string name = options.shard.count > 1
+                                 ? plan.name + "-shard-" + std::to_string(options.shard.index) +
+                                       "-of-" + std::to_string(options.shard.count)
+                                 : plan.name;
+    result.dir = options.out.empty() ? catalog.root() / "results" / "runs" / name : options.out;
   }
   const std::filesystem::path trials_file = result.dir / "trials.jsonl";
   const std::string hash = "sha256:" + plan_hash(plan);
@@ -214,18 +274,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
       if (ids.count(t.value("trial_id", std::string()))) kept.push_back(std::move(t));
     }
   }
-  if (write_dir) {
-    std::filesystem::create_directories(result.dir / "trajectories");
-    if (!options.resume) {
-      for (const char* name : {"trials.jsonl", "summary.json", "summary.md", "ompl.log",
-                               "planners.md", "planners.html"}) {
-        std::filesystem::remove(result.dir / name);
-      }
-      for (const auto& entry : std::filesystem::directory_iterator(result.dir / "trajectories")) {
-        std::filesystem::remove(entry.path());
-      }
-    }
-  }
+  if (write_dir) prepare_run_directory(result.dir, options.resume);
   std::set<std::string> done;
   for (const nlohmann::json& t : kept) done.insert(t.value("trial_id", std::string()));
   std::vector<const TrialSpec*> pending;
@@ -235,6 +284,12 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
 
   nlohmann::json provenance =
       make_provenance(plan, catalog.root(), options.command_line, options.jobs);
+  provenance["matrix"] = matrix_provenance(plan, options.overrides, p.whole_matrix);
+  provenance["shard"] = {{"index", options.shard.index},
+                         {"count", options.shard.count},
+                         {"from", options.shard.from},
+                         {"trials", p.matrix.size()}};
+  if (const nlohmann::json slurm = slurm_provenance(); !slurm.empty()) provenance["slurm"] = slurm;
   if (write_dir) write_file_atomically(result.dir / "provenance.json", provenance.dump(2) + "\n");
 
   const bool progress =
@@ -327,33 +382,6 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   result.successes = successes;
   const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (write_dir) {
-    RunInfo info{plan.name, plan.doc, result.planned, result.interrupted, wall, options.jobs};
-    nlohmann::json summary = make_summary(info, finished);
-    // What `compare` pairs: trials.jsonl may also hold another matrix's trials (--resume).
-    nlohmann::json ids = nlohmann::json::array();
-    for (const nlohmann::json& t : finished) ids.push_back(t.value("trial_id", std::string()));
-    summary["trial_ids"] = std::move(ids);
-    // Several planners: each against the first, on the same trials.
-    std::vector<std::string> planners;
-    for (const Scenario& s : plan.scenarios) {
-      for (const PlannerConfig& pc : s.planners) {
-        if (std::find(planners.begin(), planners.end(), pc.label) == planners.end()) {
-          planners.push_back(pc.label);
-        }
-      }
-    }
-    const std::vector<Comparison> vs_reference = compare_planners(finished, planners);
-    std::string appendix;
-    if (!vs_reference.empty()) {
-      nlohmann::json comparisons = nlohmann::json::array();
-      for (const Comparison& c : vs_reference) comparisons.push_back(comparison_json(c));
-      summary["planner_comparison"] = {{"reference", planners[0]}, {"comparisons", comparisons}};
-      appendix = planner_table_markdown(finished, planners, vs_reference);
-      write_planner_comparison(result.dir, plan.name, finished, planners, vs_reference);
-    }
-    write_summary(result.dir, summary, appendix);
-    write_file_atomically(result.dir / "ompl.log",
-                          ompl_log_text(ompl_info(plan, provenance, wall), finished));
     provenance["finished_at"] = utc_now_iso();
     provenance["wall_s"] = wall;
     provenance["trials"] = {{"planned", result.planned},
@@ -361,8 +389,9 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
                             {"ran_now", ran},
                             {"resumed_from", kept.size()},
                             {"interrupted", result.interrupted}};
-    write_file_atomically(result.dir / "provenance.json", provenance.dump(2) + "\n");
-    if (options.only.empty()) out << summary_markdown(summary) << appendix;
+    const RunInfo info{plan.name, plan.doc, result.planned, result.interrupted, wall, options.jobs};
+    const std::string markdown = write_run_results(result.dir, plan, info, finished, provenance);
+    if (options.only.empty()) out << markdown;
   }
   return result;
 }

@@ -13,6 +13,9 @@
 // directory must come from the same scenario files (same hash).
 // With --only, one trial runs (from its id alone) and its line is printed on stdout; a run
 // directory is written only when --out is given.
+// With a shard I/N (harness/trial_matrix.h) the run holds only that shard's trials, in a
+// directory of its own (default results/runs/<run name>-shard-<I>-of-<N>; resumable like any
+// other); `taskmatrix merge` (harness/merge_job.h) unions the shards' directories into one.
 #pragma once
 
 #include <filesystem>
@@ -20,8 +23,12 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "harness/model_catalog.h"
 #include "harness/scenario.h"
+#include "harness/summary.h"
+#include "harness/trial_matrix.h"
 #include "taskmatrix/core/task_program.h"
 
 namespace taskmatrix::harness {
@@ -33,6 +40,7 @@ struct RunJobOptions {
   RunOverrides overrides;
   bool resume = false;
   std::string only;
+  Shard shard;                                                          // 0/1: the whole matrix
   enum class Progress { kAuto, kOn, kOff } progress = Progress::kAuto;  // auto: on a terminal
   double record_rate_hz = 25.0;  // trajectory frames per simulated second; 0: none kept
   std::vector<std::string> command_line;
@@ -49,6 +57,19 @@ struct RunJobResult {
 // summary of what finished, and returns with interrupted = true.
 RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registry,
                      const RunJobOptions& options, std::ostream& out, std::ostream& err);
+
+// Every job that writes a run directory (run, merge) makes it with these two, so that the
+// directory's files mean the same whoever wrote them.
+// Creates `dir` and dir/trajectories; unless `keep_results`, removes the results of a run
+// that was there (trials, summaries, logs, trajectories).
+void prepare_run_directory(const std::filesystem::path& dir, bool keep_results);
+// Writes summary.json and summary.md (with the run's trial ids and, with several planners,
+// each planner against the first; then also planners.md and planners.html), ompl.log and
+// `provenance` as provenance.json. `finished` are the run's own trials. Returns the Markdown
+// summary (with the planner table).
+std::string write_run_results(const std::filesystem::path& dir, const RunPlan& plan,
+                              const RunInfo& info, const std::vector<nlohmann::json>& finished,
+                              const nlohmann::json& provenance);
 
 // `taskmatrix validate`: reads and checks everything run_job would before its first trial,
 // without running. Returns the number of trials the file defines. Throws core::InputError.

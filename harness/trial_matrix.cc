@@ -39,6 +39,73 @@ std::vector<TrialSpec> trial_matrix(const RunPlan& plan) {
   return out;
 }
 
+namespace {
+
+// A non-negative decimal integer of at most 9 digits, or -1.
+long long small_number(const std::string& text) {
+  if (text.empty() || text.size() > 9 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return -1;
+  }
+  return std::stoll(text);
+}
+
+}  // namespace
+
+Shard parse_shard(const std::string& spec, const std::string& key) {
+  const size_t slash = spec.find('/');
+  const long long index = slash == std::string::npos ? -1 : small_number(spec.substr(0, slash));
+  const long long count = slash == std::string::npos ? -1 : small_number(spec.substr(slash + 1));
+  if (index < 0 || count < 1 || count > kMaxShards || index >= count) {
+    throw core::InputError(
+        key, "",
+        "expected I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", not '" + spec + "'");
+  }
+  return {static_cast<int>(index), static_cast<int>(count), key};
+}
+
+std::optional<Shard> slurm_array_shard(const std::function<const char*(const char*)>& env) {
+  const char* id_text = env("SLURM_ARRAY_TASK_ID");
+  if (id_text == nullptr) return std::nullopt;
+  auto number = [&](const char* name) -> long long {
+    const char* text = env(name);
+    if (text == nullptr) {
+      throw core::InputError(name, "", "is not set, but SLURM_ARRAY_TASK_ID is; pass --shard I/N");
+    }
+    const long long v = small_number(text);
+    if (v < 0) {
+      throw core::InputError(name, "",
+                             std::string("expected a non-negative number, not '") + text + "'");
+    }
+    return v;
+  };
+  const long long id = number("SLURM_ARRAY_TASK_ID");
+  const long long count = number("SLURM_ARRAY_TASK_COUNT");
+  const long long min = env("SLURM_ARRAY_TASK_MIN") ? number("SLURM_ARRAY_TASK_MIN") : 0;
+  const long long max =
+      env("SLURM_ARRAY_TASK_MAX") ? number("SLURM_ARRAY_TASK_MAX") : min + count - 1;
+  const long long step = env("SLURM_ARRAY_TASK_STEP") ? number("SLURM_ARRAY_TASK_STEP") : 1;
+  if (count < 1 || count > kMaxShards || step != 1 || max - min + 1 != count || id < min ||
+      id > max) {
+    throw core::InputError("SLURM_ARRAY_TASK_ID", "",
+                           "task " + std::to_string(id) +
+                               " of an array that is not one range with step 1 (min " +
+                               std::to_string(min) + ", max " + std::to_string(max) + ", step " +
+                               std::to_string(step) + ", count " + std::to_string(count) +
+                               "): the shard count is unknown; pass --shard I/N");
+  }
+  return Shard{static_cast<int>(id - min), static_cast<int>(count), "SLURM_ARRAY_TASK_ID"};
+}
+
+std::vector<TrialSpec> select_shard(const std::vector<TrialSpec>& matrix, const Shard& shard) {
+  std::vector<TrialSpec> out;
+  for (size_t i = static_cast<size_t>(shard.index); i < matrix.size();
+       i += static_cast<size_t>(shard.count)) {
+    out.push_back(matrix[i]);
+  }
+  return out;
+}
+
 TrialSpec parse_trial_id(const RunPlan& plan, const std::string& id) {
   std::vector<std::string> parts;
   std::stringstream in(id);

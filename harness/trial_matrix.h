@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,27 @@ std::string trial_id(const std::string& scenario, const std::string& robot,
 
 // Every trial of the plan, in a fixed order (scenario, robot, environment, planner, k).
 std::vector<TrialSpec> trial_matrix(const RunPlan& plan);
+
+// A shard of the matrix: the trials whose index in trial_matrix() is congruent to `index`
+// modulo `count` (a stride, so that a suite's slow scenarios spread over the shards). Shards
+// 0..count-1 together hold every trial exactly once; 0/1 is the whole matrix.
+struct Shard {
+  int index = 0, count = 1;
+  std::string from;  // what chose it: "--shard", "SLURM_ARRAY_TASK_ID", or empty (the default)
+};
+constexpr int kMaxShards = 1000000;
+
+// "I/N" with 0 <= I < N <= kMaxShards. Throws core::InputError naming `key`.
+Shard parse_shard(const std::string& spec, const std::string& key);
+
+// The shard of a Slurm array task: SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN of
+// SLURM_ARRAY_TASK_COUNT, read through `env` (std::getenv's signature). nullopt outside an
+// array task. An array that is not one contiguous range with step 1 (where the count is not
+// the number of shards) throws core::InputError: such a job must pass --shard.
+std::optional<Shard> slurm_array_shard(const std::function<const char*(const char*)>& env);
+
+// The trials of `shard`, in matrix order.
+std::vector<TrialSpec> select_shard(const std::vector<TrialSpec>& matrix, const Shard& shard);
 
 // The trial an id names. Its scenario, robot, environment and planner must be the plan's;
 // its seeds may be any. Throws core::InputError naming --only and what does not match.

@@ -14,6 +14,7 @@ packages=(
   libosmesa6-dev liblodepng-dev
   libcli11-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   ompl-demos ffmpeg
+  slurmctld slurmd slurm-client munge jq   # the local Slurm cluster of scripts/slurm/
 )
 
 missing=()
