@@ -1,6 +1,6 @@
 // The `taskmatrix` command line. Verbs: list, validate, run, merge, render, scenes, compare,
-// bench-compare. Every failure is one line on stderr and a non-zero exit status (2 for bad
-// input; 1 for a regression when asked to fail on one).
+// bench-compare, check-robot. Every failure is one line on stderr and a non-zero exit status (2 for
+// bad input; 1 for a regression when asked to fail on one).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include "harness/bench_compare.h"
+#include "harness/check_robot.h"
 #include "harness/compare_job.h"
 #include "harness/merge_job.h"
 #include "harness/model_catalog.h"
@@ -247,6 +248,23 @@ int main(int argc, char** argv) {
   merge->add_flag("--move", merge_options.move_trajectories,
                   "move trajectories out of the shards instead of hard-linking them");
 
+  taskmatrix::harness::CheckRobotOptions check_options;
+  std::string check_out;
+  bool check_no_run = false;
+  CLI::App* check_robot = app.add_subcommand(
+      "check-robot",
+      "Lint a robot's profile against its model, then run the twelve programs once in one "
+      "environment (exit 0 clean, 1 lint error, 4 a program failed)");
+  check_robot->add_option("NAME", check_options.robot, "robot name")->required();
+  check_robot->add_option("--env", check_options.environment,
+                          "environment of the program run (default: kitchen, else the first)");
+  check_robot->add_flag("--no-run", check_no_run, "the lint only");
+  check_robot->add_option("--out", check_out,
+                          "run directory (default: results/runs/check-robot-NAME-ENV)");
+  check_robot->add_option("--jobs", check_options.jobs, "trials run at once")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+
   taskmatrix::harness::BenchCompareOptions bench_options;
   std::string bench_base, bench_new;
   bool bench_fail = false;
@@ -364,6 +382,14 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*render) return run_render(catalog, render_options);
+    if (*check_robot) {
+      taskmatrix::core::ProgramRegistry registry;
+      taskmatrix::programs::register_programs(registry);
+      check_options.run = !check_no_run;
+      check_options.out = check_out;
+      return taskmatrix::harness::run_check_robot(catalog, registry, check_options, std::cout,
+                                                  std::cerr);
+    }
     if (*compare) {
       compare_options.base_dir = compare_base;
       compare_options.new_dir = compare_new;

@@ -305,6 +305,8 @@ void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
     if (overrides.trials > 0) s.trials = overrides.trials;
     if (overrides.seed > 0) s.seed = overrides.seed;
     if (!planners.empty()) s.planners = planners;
+    if (!overrides.robots.empty()) s.robots = overrides.robots;
+    if (!overrides.environments.empty()) s.environments = overrides.environments;
     if (static_cast<std::uint64_t>(s.seed) + static_cast<std::uint64_t>(s.trials) - 1 >
         0xffffffffULL) {
       throw core::InputError("--seed", "",

@@ -83,6 +83,8 @@ struct RunOverrides {
   int trials = 0;                     // 0: keep
   std::uint32_t seed = 0;             // 0: keep
   std::vector<std::string> planners;  // empty: keep
+  // Empty: keep. Names are checked when the scenes are loaded (taskmatrix check-robot).
+  std::vector<std::string> robots, environments;
 };
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides);
 

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -14,7 +15,10 @@
 namespace taskmatrix::test {
 
 const harness::ModelCatalog& catalog() {
-  static const harness::ModelCatalog c(TASKMATRIX_TEST_ROOT);
+  static const harness::ModelCatalog c = [] {
+    const char* root = std::getenv("TASKMATRIX_ROOT");
+    return harness::ModelCatalog(root && *root ? root : TASKMATRIX_TEST_ROOT);
+  }();
   return c;
 }
 

@@ -13,6 +13,10 @@
 
 namespace taskmatrix::test {
 
+// The models the tests run on: $TASKMATRIX_ROOT if set (a checkout or any folder holding
+// models/robots and models/environments), else this source tree. Tests over "every robot"
+// and "every environment" take theirs from it, so a user's robot gets the model tests:
+//   TASKMATRIX_ROOT=/my/root ctest -R Models   (tests are listed when ctest starts)
 const harness::ModelCatalog& catalog();
 // Compiled once per process and shared, as workers share them.
 std::shared_ptr<const mujoco::Scene> scene(const std::string& robot,

@@ -1,5 +1,6 @@
 #include "taskmatrix/core/robot_profile.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -110,6 +111,69 @@ void validate_canned(const RobotProfile& p, const std::string& file) {
   }
 }
 
+// The side ("left"/"right") of the sided chains in `chains`, "" if there are none, "both"
+// if they mix sides.
+std::string side_of(const std::vector<std::string>& chains) {
+  std::string side;
+  for (const std::string& c : chains) {
+    if (chain_kind(c).empty()) continue;
+    const std::string s = c.substr(0, c.find('_'));
+    if (!side.empty() && s != side) return "both";
+    side = s;
+  }
+  return side;
+}
+
+// What the task programs use of the profile by name (kRequiredPostures, kRequiredCanned).
+void validate_program_needs(const RobotProfile& p, const std::string& file) {
+  const Posture& rest = p.postures.at("rest");
+  for (std::string_view chain : kRequiredChains) {
+    if (chain == "base" || rest.count(std::string(chain))) continue;
+    throw InputError(file, "postures.rest",
+                     "must name chain '" + std::string(chain) +
+                         "' (the start posture; release and greet return limbs to rest)");
+  }
+  const Posture& fist = p.postures.at("fist");
+  for (const char* hand : {"left_hand", "right_hand"}) {
+    if (!fist.count(hand)) {
+      throw InputError(file, "postures.fist",
+                       std::string("must name chain '") + hand + "' (grasp closes towards it)");
+    }
+  }
+  const Posture& wave_start = p.postures.at("wave_start");
+  std::vector<std::string> raised;
+  for (const auto& [chain, values] : wave_start) raised.push_back(chain);
+  const std::string side = side_of(raised);
+  if (side.empty() || side == "both" || !wave_start.count(side + "_arm")) {
+    throw InputError(file, "postures.wave_start",
+                     "must name one side's arm and no chain of the other side (greet mirrors "
+                     "it to the free arm)");
+  }
+  const CannedMotion& wave = p.canned.at("wave");
+  if (side_of(wave.chains) != side ||
+      std::find(wave.chains.begin(), wave.chains.end(), side + "_arm") == wave.chains.end()) {
+    throw InputError(file, "canned.wave.chains",
+                     "must include '" + side +
+                         "_arm' and no chain of the other side (greet "
+                         "waves the arm it raised to wave_start)");
+  }
+  size_t offset = 0;
+  for (const std::string& chain : wave.chains) {
+    const size_t n = p.find_chain(chain)->joints.size();
+    const auto it = wave_start.find(chain);
+    if (it != wave_start.end()) {
+      for (size_t i = 0; i < n; ++i) {
+        if (std::abs(wave.keyframes[0].values[offset + i] - it->second[i]) > 1e-6) {
+          throw InputError(file, "canned.wave.keyframes[0]",
+                           "must equal postures.wave_start for chain '" + chain +
+                               "' (greet plays the wave from the raised arm)");
+        }
+      }
+    }
+    offset += n;
+  }
+}
+
 }  // namespace
 
 void validate_profile_structure(const RobotProfile& p) {
@@ -151,7 +215,15 @@ void validate_profile_structure(const RobotProfile& p) {
   for (std::string_view required : kRequiredPostures) {
     if (!p.postures.count(std::string(required))) {
       throw InputError(file, "postures",
-                       "missing required posture '" + std::string(required) + "'");
+                       "missing required posture '" + std::string(required) +
+                           "' (the task programs use rest, fist and wave_start)");
+    }
+  }
+  for (std::string_view required : kRequiredCanned) {
+    if (!p.canned.count(std::string(required))) {
+      throw InputError(file, "canned",
+                       "missing required canned motion '" + std::string(required) +
+                           "' (greet and the canned scenario play it)");
     }
   }
   for (const auto& [posture_name, posture] : p.postures) {
@@ -217,6 +289,7 @@ void validate_profile_structure(const RobotProfile& p) {
   }
   validate_mirroring(p, file);
   validate_canned(p, file);
+  validate_program_needs(p, file);
 }
 
 }  // namespace taskmatrix::core

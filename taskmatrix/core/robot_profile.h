@@ -100,14 +100,21 @@ std::string chain_kind(std::string_view chain);
 
 inline constexpr std::array<std::string_view, 7> kRequiredChains = {
     "base", "torso", "head", "left_arm", "right_arm", "left_hand", "right_hand"};
-inline constexpr std::array<std::string_view, 3> kRequiredPostures = {"rest", "hand_open", "fist"};
+// What the twelve task programs take from a profile by name (models/README.md, "What the
+// programs need"): `rest` (every chain but the base; the start posture, release opens the
+// hand to it, greet lowers the arms to it), `fist` (both hands; grasp closes towards it),
+// `wave_start` (one side's arm: postural and greet raise it) and the canned motion `wave`
+// (the same side's chains, starting at wave_start: canned and greet play it).
+inline constexpr std::array<std::string_view, 3> kRequiredPostures = {"rest", "fist", "wave_start"};
+inline constexpr std::array<std::string_view, 1> kRequiredCanned = {"wave"};
 
-// Checks what can be checked without the model: required chains and postures exist, chains
-// are disjoint, the base chain has three joints, postures name known chains with the right
-// number of finite values, hands name their fingers consistently and have a unit approach
-// axis, mirror signs fit the left/right chains, canned motions are well formed and within
-// the chains' speed limits. Throws InputError naming the profile file and key. Every chain
-// needs speed limits.
+// Checks what can be checked without the model: required chains, postures and canned
+// motions exist and name what the programs use of them, chains are disjoint, the base chain
+// has three joints, postures name known chains with the right number of finite values, hands
+// name their fingers consistently and have unit approach and closing axes, mirror signs fit
+// the left/right chains, canned motions are well formed and within the chains' speed limits,
+// `wave` starts at `wave_start`. Throws InputError naming the profile file and key. Every
+// chain needs speed limits.
 void validate_profile_structure(const RobotProfile& profile);
 
 }  // namespace taskmatrix::core

@@ -48,6 +48,53 @@ bool excluded(const mjModel* m, int b1, int b2) {
   return false;
 }
 
+// The head camera convention the programs rely on (models/README.md, "The head camera"):
+// MuJoCo cameras look along their -z with the image's x to the right and y up. With the
+// robot at its rest posture and its base at the origin (facing +x), the optical axis must
+// point forward (within 80 degrees of +x), the image must be upright (x horizontal within 5
+// degrees, pointing to the robot's right; y upwards): fixate turns the base by the image's
+// horizontal angle. The head chain must move the camera: fixate and explore aim it with it.
+void check_head_camera(const Scene& scene, const std::string& pfile) {
+  const mjModel* m = scene.model();
+  DataPtr d = make_data(m);
+  std::copy(scene.start_qpos().begin(), scene.start_qpos().end(), d->qpos);
+  for (int adr : scene.chain("base").qpos_adr) d->qpos[adr] = 0;
+  mj_kinematics(m, d.get());
+  mj_camlight(m, d.get());
+  const int cam = scene.head_camera();
+  const mjtNum* r = d->cam_xmat + 9 * cam;  // columns: the camera's x, y, z axes
+  const double image_x[3] = {r[0], r[3], r[6]}, image_y[3] = {r[1], r[4], r[7]};
+  const double ahead[3] = {-r[2], -r[5], -r[8]};
+  const std::string name = "camera '" + scene.robot().head_camera.name + "'";
+  auto degrees = [](double cosine) {
+    return std::to_string(
+        static_cast<int>(std::lround(std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI)));
+  };
+  if (ahead[0] < std::cos(80.0 * M_PI / 180.0)) {
+    throw InputError(pfile, "head_camera",
+                     name + " looks " + degrees(ahead[0]) +
+                         " degrees away from the robot's forward +x at rest (at most 80; a "
+                         "MuJoCo camera looks along its -z)");
+  }
+  if (std::abs(image_x[2]) > std::sin(5.0 * M_PI / 180.0) || image_x[1] >= 0 || image_y[2] <= 0) {
+    throw InputError(pfile, "head_camera",
+                     name +
+                         " is not upright at rest: its image x axis must be horizontal and "
+                         "point to the robot's right (-y), its y axis up (e.g. xyaxes=\"0 -1 "
+                         "0 0 0 1\" in a head frame facing +x)");
+  }
+  const int cam_body = m->cam_bodyid[cam];
+  for (int j : scene.chain("head").joints) {
+    for (int b = cam_body; b > 0; b = m->body_parentid[b]) {
+      if (b == m->jnt_bodyid[j]) return;
+    }
+  }
+  throw InputError(pfile, "head_camera",
+                   name +
+                       " is not on a body the head chain moves (fixate and explore aim "
+                       "the camera with the head joints)");
+}
+
 }  // namespace
 
 std::shared_ptr<const Scene> Scene::load(const std::filesystem::path& robot_dir,
@@ -324,6 +371,7 @@ void Scene::index_and_validate() {
   start_qpos_[base.qpos_adr[1]] = environment_.robot_start.y;
   start_qpos_[base.qpos_adr[2]] = environment_.robot_start.yaw;
   apply_posture("rest", start_qpos_.data());
+  check_head_camera(*this, pfile);
 }
 
 std::optional<GeomPair> Scene::collidable_pair(int g1, int g2) const {

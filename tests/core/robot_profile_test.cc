@@ -25,9 +25,15 @@ RobotProfile valid_profile() {
              {"right", "rp", {0, 0, 1}, {1, 0, 0}, {{{"rf1", "rf2"}, {"rf1b", "rf2b"}}}}};
   p.mirror_signs = {{"arm", {1, -1}}, {"hand", {1, 1}}};
   p.canned["wave"] = {{"left_arm"}, {{0.0, {0, 0}}, {1.0, {0.5, -0.5}}}};
-  p.postures = {{"rest", {{"left_arm", {0, 0}}}},
-                {"hand_open", {{"left_hand", {0, 0}}}},
-                {"fist", {{"left_hand", {1, 1}}}}};
+  p.postures = {{"rest",
+                 {{"torso", {0}},
+                  {"head", {0}},
+                  {"left_arm", {0, 0}},
+                  {"right_arm", {0, 0}},
+                  {"left_hand", {0, 0}},
+                  {"right_hand", {0, 0}}}},
+                {"fist", {{"left_hand", {1, 1}}, {"right_hand", {1, 1}}}},
+                {"wave_start", {{"left_arm", {0, 0}}, {"left_hand", {0, 0}}}}};
   for (const ChainSpec& c : p.chains) p.speed_limits[c.name] = {1.0, 2.0};
   return p;
 }
@@ -109,6 +115,53 @@ TEST(RobotProfile, RequiredChainsAndPosturesMustExist) {
   p = valid_profile();
   p.postures.erase("fist");
   EXPECT_NE(error_of(p).find("missing required posture 'fist'"), std::string::npos);
+  p = valid_profile();
+  p.postures.erase("wave_start");
+  EXPECT_NE(error_of(p).find("postures: missing required posture 'wave_start'"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.canned.erase("wave");
+  EXPECT_NE(error_of(p).find("canned: missing required canned motion 'wave'"), std::string::npos)
+      << error_of(p);
+}
+
+// No program opens a hand to `hand_open`: a profile without it is complete.
+TEST(RobotProfile, HandOpenIsNotRequired) {
+  RobotProfile p = valid_profile();
+  ASSERT_FALSE(p.postures.count("hand_open"));
+  EXPECT_EQ(error_of(p), "");
+}
+
+TEST(RobotProfile, PosturesTheProgramsUseNameWhatTheyNeed) {
+  RobotProfile p = valid_profile();
+  p.postures["rest"].erase("right_hand");
+  EXPECT_NE(error_of(p).find("postures.rest: must name chain 'right_hand'"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.postures["fist"].erase("left_hand");
+  EXPECT_NE(error_of(p).find("postures.fist: must name chain 'left_hand'"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.postures["wave_start"]["right_arm"] = {0, 0};
+  EXPECT_NE(error_of(p).find("postures.wave_start: must name one side's arm"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.postures["wave_start"] = {{"left_hand", {0, 0}}};
+  EXPECT_NE(error_of(p).find("postures.wave_start: must name one side's arm"), std::string::npos)
+      << error_of(p);
+}
+
+TEST(RobotProfile, TheWaveStartsAtWaveStartOnTheSameSide) {
+  RobotProfile p = valid_profile();
+  p.canned["wave"].chains = {"right_arm"};
+  EXPECT_NE(error_of(p).find("canned.wave.chains: must include 'left_arm'"), std::string::npos)
+      << error_of(p);
+  p = valid_profile();
+  p.canned["wave"].keyframes[0].values = {0.1, 0.0};
+  EXPECT_NE(error_of(p).find("canned.wave.keyframes[0]: must equal postures.wave_start for "
+                             "chain 'left_arm'"),
+            std::string::npos)
+      << error_of(p);
 }
 
 TEST(RobotProfile, PosturesNeedOneFiniteValuePerJoint) {

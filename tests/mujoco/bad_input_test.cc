@@ -100,6 +100,32 @@ std::vector<BadInputCase> cases() {
          r.replace(kProfile, "{joints: [HeadYaw]}", "{joints: [TorsoPitch]}");
        },
        {"profile.yaml", "already in chain"}},
+      {"ProfileWithoutTheWave",
+       "minibot",
+       [](const ScratchRoot& r) { r.replace(kProfile, "  wave:\n", "  waving:\n"); },
+       {"profile.yaml", "canned: missing required canned motion 'wave'"}},
+      {"ProfileWaveNotFromWaveStart",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "      - [0, 0, -1.3, -1.5708, -1.6, 0]",
+                   "      - [0, 0, -1.3, -1.5708, -1.5, 0]");
+       },
+       {"profile.yaml", "canned.wave.keyframes[0]: must equal postures.wave_start"}},
+      {"HeadCameraLooksBackwards",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kMjcf, "xyaxes=\"0 -1 0 0.5 0 0.8660254037844386\"",
+                   "xyaxes=\"0 1 0 -0.5 0 0.8660254037844386\"");
+       },
+       {"profile.yaml", "head_camera",
+        "'HeadCam' looks 150 degrees away from the robot's forward"}},
+      {"HeadCameraUpsideDown",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kMjcf, "xyaxes=\"0 -1 0 0.5 0 0.8660254037844386\"",
+                   "xyaxes=\"0 1 0 0.5 0 -0.8660254037844386\"");
+       },
+       {"profile.yaml", "head_camera", "is not upright"}},
       {"ProfileNotYaml",
        "minibot",
        [](const ScratchRoot& r) { r.write(kProfile, "chains: [unclosed\n"); },
@@ -166,7 +192,7 @@ TEST(BadInput, UnknownRobotListsTheKnownOnes) {
   const CommandResult r =
       run_cli("render --robot nobody --env kitchen --out /tmp/never.png", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("unknown robot 'nobody' (known: minibot, minibot_urdf, tallbot)"),
+  EXPECT_NE(r.err.find("unknown robot 'nobody' (known: atlas, minibot, minibot_urdf, tallbot)"),
             std::string::npos)
       << r.err;
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "tests/test_support.h"
@@ -12,12 +13,12 @@ namespace {
 
 using test::RobotEnv;
 
-TEST(ModelCatalog, HasTwoHumanoidsAndTwoEnvironments) {
-  const auto robots = test::catalog().robots();
-  const auto envs = test::catalog().environments();
-  EXPECT_GE(robots.size(), 2u);
-  EXPECT_GE(envs.size(), 2u);
-  for (const char* name : {"tallbot", "minibot", "minibot_urdf"}) {
+TEST(ModelCatalog, HasTheBuiltInHumanoidsAndEnvironments) {
+  // The project's own models (a TASKMATRIX_ROOT of a user's may hold others).
+  const harness::ModelCatalog project(TASKMATRIX_TEST_ROOT);
+  const auto robots = project.robots();
+  const auto envs = project.environments();
+  for (const char* name : {"tallbot", "minibot", "minibot_urdf", "atlas"}) {
     EXPECT_NE(std::find(robots.begin(), robots.end(), name), robots.end()) << name;
   }
   for (const char* name : {"kitchen", "office"}) {
@@ -47,17 +48,34 @@ TEST_P(EveryRobotInEveryEnvironment, LoadsAndTouchesNothingAtRest) {
   EXPECT_GT(d->cam_xpos[3 * scene->head_camera() + 2], 0.6 * scene->robot().height_m);
 }
 
-TEST_P(EveryRobotInEveryEnvironment, NamedPosturesOtherThanFistAreCollisionFree) {
+// Every posture touches nothing at the start pose; in `fist` (fingers closing on nothing)
+// the fingers and palm of one hand may touch each other, and nothing else.
+TEST_P(EveryRobotInEveryEnvironment, EveryPostureIsCollisionFree) {
   auto scene = test::scene(GetParam().robot, GetParam().environment);
   WorkerScene worker(scene);
+  const mjModel* m = scene->model();
+  std::set<std::string> hand_bodies;  // finger segments and the palm's body, per side
+  std::map<std::string, std::string> side_of;
+  for (const core::HandSpec& hand : scene->robot().hands) {
+    const FrameRef palm = scene->frame(hand.palm);
+    const int palm_body = palm.kind == FrameRef::Kind::kSite ? m->site_bodyid[palm.id] : palm.id;
+    side_of[mj_id2name(m, mjOBJ_BODY, palm_body)] = hand.side;
+    for (const core::FingerSpec& f : hand.fingers) {
+      for (const std::string& b : f.bodies) side_of[b] = hand.side;
+    }
+  }
   for (const auto& [name, posture] : scene->robot().postures) {
-    if (name == "fist") continue;  // fingers closing on nothing may touch each other
     std::vector<double> q = scene->start_qpos();
     scene->apply_posture(name, q.data());
     std::copy(q.begin(), q.end(), worker.data()->qpos);
     mj_forward(worker.model(), worker.data());
     for (const RobotContact& c : worker.robot_contacts()) {
-      ADD_FAILURE() << "posture " << name << ": " << c.body1 << " touches " << c.body2;
+      const auto s1 = side_of.find(c.body1), s2 = side_of.find(c.body2);
+      const bool within_a_hand =
+          s1 != side_of.end() && s2 != side_of.end() && s1->second == s2->second;
+      if (name == "fist" && within_a_hand) continue;
+      ADD_FAILURE() << "posture " << name << ": " << c.body1 << "/" << c.geom1 << " touches "
+                    << c.body2 << "/" << c.geom2 << " at distance " << c.distance;
     }
   }
 }
@@ -78,16 +96,18 @@ TEST_P(EveryRobotInEveryEnvironment, ProfileMatchesTheModel) {
   }
   EXPECT_EQ(static_cast<int>(seen.size()), robot_joints)
       << "every robot joint is in exactly one chain";
-  // Arms as the issue asks: tall 7 DOF, compact 5 or 6; fingers with two segments each.
-  const size_t arm_dof = scene->chain("left_arm").joints.size();
-  EXPECT_EQ(arm_dof, scene->chain("right_arm").joints.size());
-  if (scene->robot().height_m > 1.5) {
-    EXPECT_EQ(arm_dof, 7u);
-  } else {
-    EXPECT_TRUE(arm_dof == 5u || arm_dof == 6u);
+  // Limbs come in mirrored pairs: the same number of joints on both sides, and hands with
+  // the same fingers (mirror_signs map one side's postures onto the other).
+  for (const char* kind : {"arm", "hand"}) {
+    EXPECT_EQ(scene->chain(std::string("left_") + kind).joints.size(),
+              scene->chain(std::string("right_") + kind).joints.size())
+        << kind;
   }
-  for (const core::HandSpec& hand : scene->robot().hands) {
-    for (const core::FingerSpec& f : hand.fingers) EXPECT_EQ(f.joints.size(), 2u);
+  const core::HandSpec* left = scene->robot().find_hand("left");
+  const core::HandSpec* right = scene->robot().find_hand("right");
+  ASSERT_EQ(left->fingers.size(), right->fingers.size());
+  for (size_t f = 0; f < left->fingers.size(); ++f) {
+    EXPECT_EQ(left->fingers[f].joints.size(), right->fingers[f].joints.size()) << "finger " << f;
   }
   // Environment objects the twelve programs need.
   const auto& objects = scene->environment().objects;
@@ -119,6 +139,28 @@ TEST(Robots, TheTwoHumanoidsDifferAsInThePaper) {
       EXPECT_LT(
           mj_name2id(compact->model(), mjOBJ_JOINT, mj_id2name(tall->model(), mjOBJ_JOINT, j)), 0);
     }
+  }
+}
+
+// The third built-in humanoid differs from both others in height, arm joints, hand and
+// neck (models/README.md).
+TEST(Robots, AtlasDiffersFromBothInHeightArmsHandAndNeck) {
+  auto atlas = test::scene("atlas", "kitchen");
+  EXPECT_NEAR(atlas->robot().height_m, 1.88, 0.01);  // Atlas (2013): 1.88 m
+  EXPECT_EQ(atlas->chain("left_arm").joints.size(), 6u);
+  EXPECT_EQ(atlas->chain("torso").joints.size(), 3u);
+  const core::HandSpec* hand = atlas->robot().find_hand("left");
+  EXPECT_EQ(hand->fingers.size(), 3u);
+  for (const core::FingerSpec& f : hand->fingers) EXPECT_EQ(f.joints.size(), 3u);
+  // A 1-DOF neck that pitches (minibot's turns): its axis is horizontal.
+  ASSERT_EQ(atlas->chain("head").joints.size(), 1u);
+  const mjtNum* axis = atlas->model()->jnt_axis + 3 * atlas->chain("head").joints[0];
+  EXPECT_NEAR(axis[2], 0.0, 1e-9);
+  for (const char* other : {"tallbot", "minibot"}) {
+    auto s = test::scene(other, "kitchen");
+    EXPECT_GT(std::abs(s->robot().height_m - atlas->robot().height_m), 0.1) << other;
+    EXPECT_NE(s->chain("left_arm").joints.size(), 6u) << other;
+    EXPECT_NE(s->robot().find_hand("left")->fingers[0].joints.size(), 3u) << other;
   }
 }
 

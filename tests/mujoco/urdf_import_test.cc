@@ -2,23 +2,50 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <random>
 
+#include "taskmatrix/io/model_files.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::mujoco {
 namespace {
 
-// minibot_urdf is minibot described as URDF: parsed by urdfdom, compiled by MuJoCo's URDF
-// importer and completed from its profile. It must be the same robot as the MJCF twin.
-class UrdfTwin : public ::testing::Test {
+// A URDF twin: a robot whose profile names a URDF file in another robot's folder, that
+// robot being described by MJCF (minibot_urdf and minibot). The URDF is parsed by urdfdom,
+// compiled by MuJoCo's URDF importer and completed from its profile; it must be the same
+// robot as the MJCF twin. Every such pair under the models folder is tested.
+struct TwinPair {
+  std::string urdf, mjcf;
+};
+void PrintTo(const TwinPair& p, std::ostream* os) { *os << p.urdf << " and " << p.mjcf; }
+
+std::vector<TwinPair> twin_pairs() {
+  std::vector<TwinPair> out;
+  const harness::ModelCatalog& catalog = test::catalog();
+  for (const std::string& robot : catalog.robots()) {
+    const core::RobotProfile p = io::load_robot_profile(catalog.robot_dir(robot) / "profile.yaml");
+    if (p.format != core::ModelFormat::kUrdf) continue;
+    const std::string folder = p.model_file.parent_path().filename().string();
+    if (folder == robot) continue;
+    const auto robots = catalog.robots();
+    if (std::find(robots.begin(), robots.end(), folder) == robots.end()) continue;
+    const core::RobotProfile twin =
+        io::load_robot_profile(catalog.robot_dir(folder) / "profile.yaml");
+    if (twin.format == core::ModelFormat::kMjcf) out.push_back({robot, folder});
+  }
+  return out;
+}
+
+class UrdfTwin : public ::testing::TestWithParam<TwinPair> {
  protected:
-  std::shared_ptr<const Scene> urdf = test::scene("minibot_urdf", "kitchen");
-  std::shared_ptr<const Scene> mjcf = test::scene("minibot", "kitchen");
+  std::shared_ptr<const Scene> urdf = test::scene(GetParam().urdf, "kitchen");
+  std::shared_ptr<const Scene> mjcf = test::scene(GetParam().mjcf, "kitchen");
 };
 
-TEST_F(UrdfTwin, AgreesOnChainsJointsAndLimits) {
+TEST_P(UrdfTwin, AgreesOnChainsJointsAndLimits) {
   ASSERT_EQ(urdf->chains().size(), mjcf->chains().size());
   for (const ChainIndex& u : urdf->chains()) {
     const ChainIndex& m = mjcf->chain(u.name);
@@ -33,8 +60,31 @@ TEST_F(UrdfTwin, AgreesOnChainsJointsAndLimits) {
   }
 }
 
-TEST_F(UrdfTwin, PalmAndHeadCameraPosesAgreeAtRandomConfigurations) {
+// A frame's pose in `d`: a site, else a body, else a camera of the model.
+std::pair<const mjtNum*, const mjtNum*> frame_pose(const Scene& s, const mjData* d,
+                                                   const std::string& name) {
+  const FrameRef f = s.frame(name);
+  switch (f.kind) {
+    case FrameRef::Kind::kSite:
+      return {d->site_xpos + 3 * f.id, d->site_xmat + 9 * f.id};
+    case FrameRef::Kind::kBody:
+      return {d->xpos + 3 * f.id, d->xmat + 9 * f.id};
+    case FrameRef::Kind::kCamera:
+      break;
+  }
+  return {d->cam_xpos + 3 * f.id, d->cam_xmat + 9 * f.id};
+}
+
+TEST_P(UrdfTwin, BodyPalmAndHeadCameraPosesAgreeAtRandomConfigurations) {
   WorkerScene wu(urdf), wm(mjcf);
+  // Every robot body the two share by name (the URDF's links, the MJCF's bodies).
+  std::vector<std::pair<int, int>> bodies;
+  for (int bu = 1; bu < wu.model()->nbody; ++bu) {
+    if (!urdf->is_robot_body(bu)) continue;
+    const int bm = mj_name2id(wm.model(), mjOBJ_BODY, mj_id2name(wu.model(), mjOBJ_BODY, bu));
+    if (bm >= 0) bodies.push_back({bu, bm});
+  }
+  EXPECT_GE(bodies.size(), urdf->chains().size());
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
@@ -53,17 +103,21 @@ TEST_F(UrdfTwin, PalmAndHeadCameraPosesAgreeAtRandomConfigurations) {
     mj_kinematics(wm.model(), wm.data());
     mj_camlight(wu.model(), wu.data());
     mj_camlight(wm.model(), wm.data());
-    for (const char* palm : {"LPalm", "RPalm"}) {
-      const int bu = mj_name2id(wu.model(), mjOBJ_BODY, palm);
-      const int bm = mj_name2id(wm.model(), mjOBJ_BODY, palm);
-      ASSERT_GE(bu, 0);
-      ASSERT_GE(bm, 0);
+    for (const auto& [bu, bm] : bodies) {
       for (int k = 0; k < 3; ++k) {
-        EXPECT_NEAR(wu.data()->xpos[3 * bu + k], wm.data()->xpos[3 * bm + k], 1e-9) << palm;
+        ASSERT_NEAR(wu.data()->xpos[3 * bu + k], wm.data()->xpos[3 * bm + k], 1e-9)
+            << mj_id2name(wu.model(), mjOBJ_BODY, bu);
       }
       for (int k = 0; k < 9; ++k) {
-        EXPECT_NEAR(wu.data()->xmat[9 * bu + k], wm.data()->xmat[9 * bm + k], 1e-9) << palm;
+        ASSERT_NEAR(wu.data()->xmat[9 * bu + k], wm.data()->xmat[9 * bm + k], 1e-9)
+            << mj_id2name(wu.model(), mjOBJ_BODY, bu);
       }
+    }
+    for (const core::HandSpec& hand : urdf->robot().hands) {
+      const auto [pu, ru] = frame_pose(*urdf, wu.data(), hand.palm);
+      const auto [pm, rm] = frame_pose(*mjcf, wm.data(), mjcf->robot().find_hand(hand.side)->palm);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(pu[k], pm[k], 1e-9) << hand.side << " palm";
+      for (int k = 0; k < 9; ++k) EXPECT_NEAR(ru[k], rm[k], 1e-9) << hand.side << " palm";
     }
     const int cu = urdf->head_camera(), cm = mjcf->head_camera();
     for (int k = 0; k < 3; ++k)
@@ -73,15 +127,29 @@ TEST_F(UrdfTwin, PalmAndHeadCameraPosesAgreeAtRandomConfigurations) {
   }
 }
 
-TEST_F(UrdfTwin, ImporterAddsAnActuatorPerJointAndTheCamera) {
+TEST_P(UrdfTwin, ImporterAddsAnActuatorPerJointAndTheCamera) {
   const std::string mjcf_text = import_urdf_as_mjcf(urdf->robot());
-  EXPECT_NE(mjcf_text.find("<camera name=\"HeadCam\""), std::string::npos);
+  EXPECT_NE(mjcf_text.find("<camera name=\"" + urdf->robot().head_camera.name + "\""),
+            std::string::npos);
   size_t actuators = 0;
   for (size_t at = 0; (at = mjcf_text.find("<position ", at)) != std::string::npos; ++at)
     ++actuators;
   size_t joints = 0;
   for (const ChainIndex& c : urdf->chains()) joints += c.joints.size();
   EXPECT_EQ(actuators, joints);
+}
+
+// The project's models hold one pair (minibot_urdf, minibot); a user's folder may hold none.
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(UrdfTwin);
+INSTANTIATE_TEST_SUITE_P(Models, UrdfTwin, ::testing::ValuesIn(twin_pairs()),
+                         [](const auto& p) { return p.param.urdf + "_and_" + p.param.mjcf; });
+
+TEST(UrdfTwins, TheProjectHasMinibotAndItsUrdfTwin) {
+  if (std::getenv("TASKMATRIX_ROOT")) GTEST_SKIP() << "TASKMATRIX_ROOT names other models";
+  const std::vector<TwinPair> pairs = twin_pairs();
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_EQ(pairs[0].urdf, "minibot_urdf");
+  EXPECT_EQ(pairs[0].mjcf, "minibot");
 }
 
 }  // namespace

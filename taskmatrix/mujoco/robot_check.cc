@@ -1,0 +1,623 @@
+#include "taskmatrix/mujoco/robot_check.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <set>
+
+namespace taskmatrix::mujoco {
+
+const char* to_string(RobotFinding::Level level) {
+  switch (level) {
+    case RobotFinding::Level::kOk:
+      return "ok";
+    case RobotFinding::Level::kWarning:
+      return "warning";
+    case RobotFinding::Level::kError:
+      return "ERROR";
+  }
+  return "?";
+}
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Level = RobotFinding::Level;
+
+constexpr double kMirrorTolM = 0.005;
+constexpr double kMirrorTolRad = 3.0 * M_PI / 180.0;
+constexpr double kNearLimit = 1e-3;
+constexpr double kFingerCloses = 0.005;
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+Vec3 mirrored(const Vec3& v) { return {v.x(), -v.y(), v.z()}; }
+
+// A uniform draw in [lo, hi] from the generator's bits (the same on every platform).
+double uniform(std::mt19937_64& rng, double lo, double hi) {
+  return lo + (hi - lo) * static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+// One mjData of a scene with helpers for forward kinematics.
+class Probe {
+ public:
+  explicit Probe(const Scene& scene) : scene_(scene), m_(scene.model()), d_(make_data(m_)) {}
+
+  // The start pose (rest posture); with `at_origin` the base stands at the origin facing +x.
+  void reset(bool at_origin) {
+    std::copy(scene_.start_qpos().begin(), scene_.start_qpos().end(), d_->qpos);
+    if (at_origin) {
+      for (int adr : scene_.chain("base").qpos_adr) d_->qpos[adr] = 0;
+    }
+  }
+  void set(const std::string& chain, const std::vector<double>& values) {
+    const ChainIndex& c = scene_.chain(chain);
+    for (size_t i = 0; i < c.qpos_adr.size() && i < values.size(); ++i) {
+      d_->qpos[c.qpos_adr[i]] = values[i];
+    }
+  }
+  void set_posture(const std::string& posture) { scene_.apply_posture(posture, d_->qpos); }
+  void kinematics() {
+    mj_kinematics(m_, d_.get());
+    mj_camlight(m_, d_.get());
+  }
+  // Contacts (distance < 0) after kinematics: pairs of geoms at least one of which is the
+  // robot's.
+  std::vector<std::pair<int, int>> contacts() {
+    mj_collision(m_, d_.get());
+    std::vector<std::pair<int, int>> out;
+    for (int i = 0; i < d_->ncon; ++i) {
+      const mjContact& c = d_->contact[i];
+      if (c.dist >= 0) continue;
+      if (scene_.is_robot_geom(c.geom1) || scene_.is_robot_geom(c.geom2)) {
+        out.push_back({c.geom1, c.geom2});
+      }
+    }
+    return out;
+  }
+
+  Vec3 position(const std::string& frame) const {
+    const FrameRef f = scene_.frame(frame);
+    const mjtNum* p = f.kind == FrameRef::Kind::kSite   ? d_->site_xpos + 3 * f.id
+                      : f.kind == FrameRef::Kind::kBody ? d_->xpos + 3 * f.id
+                                                        : d_->cam_xpos + 3 * f.id;
+    return {p[0], p[1], p[2]};
+  }
+  Mat3 rotation(const std::string& frame) const {
+    const FrameRef f = scene_.frame(frame);
+    const mjtNum* r = f.kind == FrameRef::Kind::kSite   ? d_->site_xmat + 9 * f.id
+                      : f.kind == FrameRef::Kind::kBody ? d_->xmat + 9 * f.id
+                                                        : d_->cam_xmat + 9 * f.id;
+    Mat3 out;
+    out << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
+    return out;
+  }
+  int frame_body(const std::string& frame) const {
+    const FrameRef f = scene_.frame(frame);
+    return f.kind == FrameRef::Kind::kSite   ? m_->site_bodyid[f.id]
+           : f.kind == FrameRef::Kind::kBody ? f.id
+                                             : m_->cam_bodyid[f.id];
+  }
+  // Where a finger ends: the centre of its last segment's geoms (the body's origin if it
+  // has none).
+  Vec3 segment_centre(int body) const {
+    Vec3 sum = Vec3::Zero();
+    int n = 0;
+    for (int g = 0; g < m_->ngeom; ++g) {
+      if (m_->geom_bodyid[g] != body) continue;
+      sum += Vec3(d_->geom_xpos[3 * g], d_->geom_xpos[3 * g + 1], d_->geom_xpos[3 * g + 2]);
+      ++n;
+    }
+    if (n > 0) return sum / n;
+    return {d_->xpos[3 * body], d_->xpos[3 * body + 1], d_->xpos[3 * body + 2]};
+  }
+  // The furthest point of a geom along `dir` (unit), as dir . p.
+  double support(int g, const Vec3& dir) const {
+    const Vec3 c(d_->geom_xpos[3 * g], d_->geom_xpos[3 * g + 1], d_->geom_xpos[3 * g + 2]);
+    Mat3 r;
+    const mjtNum* x = d_->geom_xmat + 9 * g;
+    r << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
+    const Vec3 local = r.transpose() * dir;  // dir in the geom's frame
+    const mjtNum* s = m_->geom_size + 3 * g;
+    double extent = 0;
+    switch (m_->geom_type[g]) {
+      case mjGEOM_SPHERE:
+        extent = s[0];
+        break;
+      case mjGEOM_CAPSULE:
+        extent = s[1] * std::abs(local.z()) + s[0];
+        break;
+      case mjGEOM_CYLINDER:
+        extent =
+            s[1] * std::abs(local.z()) + s[0] * std::sqrt(std::max(0.0, 1 - local.z() * local.z()));
+        break;
+      case mjGEOM_BOX:
+        extent =
+            s[0] * std::abs(local.x()) + s[1] * std::abs(local.y()) + s[2] * std::abs(local.z());
+        break;
+      case mjGEOM_ELLIPSOID:
+        extent = std::sqrt(std::pow(s[0] * local.x(), 2) + std::pow(s[1] * local.y(), 2) +
+                           std::pow(s[2] * local.z(), 2));
+        break;
+      default:
+        extent = m_->geom_rbound[g];
+    }
+    return dir.dot(c) + extent;
+  }
+
+  Vec3 body_position(int body) const {
+    return {d_->xpos[3 * body], d_->xpos[3 * body + 1], d_->xpos[3 * body + 2]};
+  }
+  const mjModel* model() const { return m_; }
+
+ private:
+  const Scene& scene_;
+  const mjModel* m_;
+  DataPtr d_;
+};
+
+bool is_descendant(const mjModel* m, int body, int ancestor) {
+  for (int b = body; b > 0; b = m->body_parentid[b]) {
+    if (b == ancestor) return true;
+  }
+  return false;
+}
+
+// Bodies that a joint of one of `chains` moves.
+std::vector<char> moved_by(const Scene& scene, const std::vector<std::string>& chains) {
+  const mjModel* m = scene.model();
+  std::vector<char> moved(m->nbody, 0);
+  for (const std::string& c : chains) {
+    for (int j : scene.chain(c).joints) {
+      for (int b = 0; b < m->nbody; ++b) moved[b] |= is_descendant(m, b, m->jnt_bodyid[j]);
+    }
+  }
+  return moved;
+}
+
+std::string body_name(const mjModel* m, int body) {
+  const char* n = mj_id2name(m, mjOBJ_BODY, body);
+  return n ? n : "#" + std::to_string(body);
+}
+
+std::vector<double> clamped_zeros(const ChainIndex& c) {
+  std::vector<double> q;
+  for (size_t i = 0; i < c.lower.size(); ++i) q.push_back(std::clamp(0.0, c.lower[i], c.upper[i]));
+  return q;
+}
+
+const std::vector<std::string> kLimbChains = {"left_arm", "right_arm", "left_hand", "right_hand"};
+
+RobotFinding check_chains(const Scene& scene) {
+  const core::RobotProfile& robot = scene.robot();
+  std::string dofs;
+  for (const core::ChainSpec& c : robot.chains) {
+    dofs += (dofs.empty() ? "" : ", ") + c.name + " " + std::to_string(c.joints.size());
+  }
+  for (const core::HandSpec& h : robot.hands) {
+    dofs += "; " + h.side + " hand " + std::to_string(h.fingers.size()) + " fingers (";
+    for (size_t f = 0; f < h.fingers.size(); ++f) {
+      dofs += (f ? "+" : "") + std::to_string(h.fingers[f].joints.size());
+    }
+    dofs += " segments)";
+  }
+  std::string near;
+  for (const auto& [posture_name, posture] : robot.postures) {
+    for (const auto& [chain_name, values] : posture) {
+      const ChainIndex& c = scene.chain(chain_name);
+      for (size_t i = 0; i < values.size(); ++i) {
+        const double gap = std::min(values[i] - c.lower[i], c.upper[i] - values[i]);
+        if (gap < kNearLimit && near.size() < 200) {
+          near += (near.empty() ? "" : ", ") + ("postures." + posture_name + "." + chain_name) +
+                  " joint '" + mj_id2name(scene.model(), mjOBJ_JOINT, c.joints[i]) + "'";
+        }
+      }
+    }
+  }
+  if (!near.empty()) {
+    return {Level::kWarning, "chains",
+            dofs +
+                ". At a joint limit (a servo settles a hair past it; a program that "
+                "commands the measured value then asks for more than the limit): " +
+                near};
+  }
+  return {Level::kOk, "chains", dofs + "; every posture keeps 1e-3 from the joint limits"};
+}
+
+std::vector<RobotFinding> check_postures(const Scene& scene) {
+  std::vector<RobotFinding> out;
+  Probe probe(scene);
+  const mjModel* m = scene.model();
+  std::vector<std::string> clean;
+  for (const auto& [name, posture] : scene.robot().postures) {
+    probe.reset(false);
+    probe.set_posture(name);
+    probe.kinematics();
+    std::vector<char> hand_bodies;
+    if (name == "fist") {
+      hand_bodies = moved_by(scene, {"left_hand", "right_hand"});
+      for (const core::HandSpec& h : scene.robot().hands) hand_bodies[probe.frame_body(h.palm)] = 1;
+    }
+    std::set<std::string> touching, within_hand;
+    for (const auto& [g1, g2] : probe.contacts()) {
+      const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
+      const std::string pair = body_name(m, b1) + " touches " + body_name(m, b2);
+      if (!hand_bodies.empty() && hand_bodies[b1] && hand_bodies[b2]) {
+        within_hand.insert(pair);
+      } else {
+        touching.insert(pair);
+      }
+    }
+    if (!touching.empty()) {
+      std::string list;
+      for (const std::string& t : touching) list += (list.empty() ? "" : "; ") + t;
+      out.push_back(
+          {Level::kError, "postures",
+           "postures." + name + ": at the start of " + scene.environment().name + ", " + list});
+    } else if (!within_hand.empty()) {
+      out.push_back({Level::kWarning, "postures",
+                     "postures.fist: fingers touch each other or the palm (" +
+                         *within_hand.begin() +
+                         "): grasp stops a segment that touches anything, so the hand may "
+                         "close short of the object"});
+    } else {
+      clean.push_back(name);
+    }
+  }
+  if (!clean.empty()) {
+    std::string list;
+    for (const std::string& n : clean) list += (list.empty() ? "" : ", ") + n;
+    out.push_back({Level::kOk, "postures",
+                   list + ": touch nothing at the start of " + scene.environment().name});
+  }
+  return out;
+}
+
+RobotFinding check_camera(const Scene& scene) {
+  Probe probe(scene);
+  probe.reset(true);
+  probe.kinematics();
+  const std::string& cam = scene.robot().head_camera.name;
+  const Vec3 ahead = -probe.rotation(cam).col(2);
+  const double below = std::atan2(-ahead.z(), std::hypot(ahead.x(), ahead.y())) * 180 / M_PI;
+  const double fovy = scene.model()->cam_fovy[scene.head_camera()];
+  return {Level::kOk, "head camera",
+          "'" + cam + "' at " + fixed(probe.position(cam).z(), 2) + " m looks forward, " +
+              fixed(below, 0) + " degrees below the horizontal at rest, upright, vertical field " +
+              fixed(fovy, 0) + " degrees; the head chain moves it"};
+}
+
+struct HandProbe {
+  const core::HandSpec* hand = nullptr;
+  std::vector<Vec3> tips_rest, tips_fist;  // world, base at the origin
+  Vec3 palm = Vec3::Zero();
+  Mat3 palm_rotation = Mat3::Identity();
+};
+
+// Fingertips of `hand` at rest and in fist, with the arms at `arm_left` / `arm_right` if
+// given (else at rest) and the hands at the given values (else rest / fist).
+void probe_tips(Probe& probe, const Scene& scene, HandProbe& h) {
+  probe.reset(true);
+  probe.kinematics();
+  h.palm = probe.position(h.hand->palm);
+  h.palm_rotation = probe.rotation(h.hand->palm);
+  const mjModel* m = probe.model();
+  auto tips = [&]() {
+    std::vector<Vec3> out;
+    for (const core::FingerSpec& f : h.hand->fingers) {
+      out.push_back(probe.segment_centre(mj_name2id(m, mjOBJ_BODY, f.bodies.back().c_str())));
+    }
+    return out;
+  };
+  h.tips_rest = tips();
+  const std::string chain = h.hand->side + "_hand";
+  probe.set(chain, scene.robot().postures.at("fist").at(chain));
+  probe.kinematics();
+  h.tips_fist = tips();
+}
+
+std::vector<RobotFinding> check_hands(const Scene& scene) {
+  std::vector<RobotFinding> out;
+  Probe probe(scene);
+  const mjModel* m = scene.model();
+  for (const core::HandSpec& hand : scene.robot().hands) {
+    HandProbe h;
+    h.hand = &hand;
+    probe_tips(probe, scene, h);
+    const std::string key = "hands." + hand.side;
+    const Vec3 approach =
+        h.palm_rotation * Vec3(hand.approach[0], hand.approach[1], hand.approach[2]);
+    const Vec3 closing = h.palm_rotation * Vec3(hand.closing[0], hand.closing[1], hand.closing[2]);
+    const Vec3 across = approach.cross(closing);
+    // Palm geometry stays behind the palm origin along approach.
+    probe.reset(true);
+    probe.kinematics();
+    const int palm_body = probe.frame_body(hand.palm);
+    double reach = -1e9;
+    int front_geom = -1;
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->geom_bodyid[g] != palm_body || !(m->geom_contype[g] || m->geom_conaffinity[g]))
+        continue;
+      const double s = probe.support(g, approach) - approach.dot(h.palm);
+      if (s > reach) {
+        reach = s;
+        front_geom = g;
+      }
+    }
+    if (front_geom >= 0 && reach > 0) {
+      const char* gname = mj_id2name(m, mjOBJ_GEOM, front_geom);
+      out.push_back({Level::kError, "palm axes",
+                     key + ".approach: geom '" + std::string(gname ? gname : "?") +
+                         "' of the palm's body reaches " + fixed(reach * 100, 1) +
+                         " cm past the palm origin along approach (reach brings the object's "
+                         "centre to the palm origin along approach: approach must point out of "
+                         "the palm, towards where the fingers close)"});
+      continue;
+    }
+    std::string bad_closing, bad_closer;
+    double worst_closer = 1e9;
+    int along = 0;  // fingers whose tips close more along `closing` than across it
+    for (size_t f = 0; f < hand.fingers.size(); ++f) {
+      const Vec3 d = h.tips_fist[f] - h.tips_rest[f];
+      if (std::abs(d.dot(closing)) >= std::abs(d.dot(across))) {
+        ++along;
+      } else if (bad_closing.empty()) {
+        bad_closing = "fingers[" + std::to_string(f) + "] moves " + fixed(d.dot(across) * 100, 1) +
+                      " cm across the closing axis and " + fixed(d.dot(closing) * 100, 1) +
+                      " cm along it";
+      }
+      const double closer = (h.tips_rest[f] - h.palm).norm() - (h.tips_fist[f] - h.palm).norm();
+      worst_closer = std::min(worst_closer, closer);
+      if (closer < kFingerCloses && bad_closer.empty()) {
+        bad_closer = "fingers[" + std::to_string(f) + "]: its tip ends " + fixed(-closer * 100, 1) +
+                     " cm further from the palm origin in fist than at rest";
+      }
+    }
+    const int needed = std::min<int>(2, static_cast<int>(hand.fingers.size()));
+    if (along < needed) {
+      out.push_back({Level::kError, "palm axes",
+                     key + ".closing: from rest to fist " + bad_closing + "; " +
+                         std::to_string(along) + " of " + std::to_string(hand.fingers.size()) +
+                         " fingers close along it, grasp needs " + std::to_string(needed) +
+                         " on the object (reach keeps the closing axis horizontal for upright "
+                         "objects)"});
+    } else if (!bad_closing.empty()) {
+      out.push_back({Level::kWarning, "palm axes",
+                     key + ".closing: from rest to fist " + bad_closing + " (" +
+                         std::to_string(along) + " of " + std::to_string(hand.fingers.size()) +
+                         " fingers close along it: with the closing axis horizontal around an "
+                         "upright object, that finger closes above or below it)"});
+    } else {
+      out.push_back({Level::kOk, "palm axes",
+                     key + ": the palm stays " + fixed(-reach * 100, 1) +
+                         " cm behind its origin along approach; the fingers close along closing"});
+    }
+    if (!bad_closer.empty()) {
+      out.push_back({Level::kError, "fingers",
+                     key + ".fingers: " + bad_closer +
+                         " (grasp closes every segment from where it is towards fist)"});
+    } else {
+      out.push_back({Level::kOk, "fingers",
+                     key + ": every fingertip closes at least " + fixed(worst_closer * 100, 1) +
+                         " cm towards the palm origin from rest to fist"});
+    }
+  }
+  return out;
+}
+
+std::vector<RobotFinding> check_mirror(const Scene& scene) {
+  const core::RobotProfile& robot = scene.robot();
+  const ChainIndex& left = scene.chain("left_arm");
+  const ChainIndex& right = scene.chain("right_arm");
+  const std::vector<double>& signs = robot.mirror_signs.at("arm");
+  const core::HandSpec* lh = robot.find_hand("left");
+  const core::HandSpec* rh = robot.find_hand("right");
+  const Vec3 la(lh->approach[0], lh->approach[1], lh->approach[2]);
+  const Vec3 ra(rh->approach[0], rh->approach[1], rh->approach[2]);
+  Probe probe(scene);
+  std::mt19937_64 rng(20261201);
+  double worst_m = 0, worst_rad = 0;
+  std::vector<double> worst_q;
+  int samples = 0;
+  for (int draw = 0; draw < 2000 && samples < 100; ++draw) {
+    std::vector<double> ql, qr;
+    bool inside = true;
+    for (size_t i = 0; i < left.lower.size(); ++i) {
+      ql.push_back(uniform(rng, left.lower[i], left.upper[i]));
+      qr.push_back(signs[i] * ql.back());
+      inside = inside && qr[i] >= right.lower[i] && qr[i] <= right.upper[i];
+    }
+    if (!inside) continue;
+    ++samples;
+    probe.reset(true);
+    probe.set("torso", clamped_zeros(scene.chain("torso")));
+    probe.set("left_arm", ql);
+    probe.set("right_arm", qr);
+    probe.kinematics();
+    const double dm = (probe.position(rh->palm) - mirrored(probe.position(lh->palm))).norm();
+    const Vec3 al = mirrored(probe.rotation(lh->palm) * la);
+    const Vec3 ar = probe.rotation(rh->palm) * ra;
+    const double drad = std::acos(std::clamp(al.dot(ar), -1.0, 1.0));
+    if (dm > worst_m || drad > worst_rad) {
+      worst_m = std::max(worst_m, dm);
+      worst_rad = std::max(worst_rad, drad);
+      worst_q = ql;
+    }
+  }
+  if (samples == 0) {
+    return {{Level::kError, "mirror signs",
+             "mirror_signs.arm: no left-arm configuration mirrors into the right arm's limits"}};
+  }
+  if (worst_m > kMirrorTolM || worst_rad > kMirrorTolRad) {
+    std::string q;
+    for (double v : worst_q) q += (q.empty() ? "" : ", ") + fixed(v, 2);
+    return {{Level::kError, "mirror signs",
+             "mirror_signs.arm: at left_arm [" + q + "] and its mirror image the right palm is " +
+                 fixed(worst_m * 100, 1) + " cm and " + fixed(worst_rad * 180 / M_PI, 1) +
+                 " degrees (approach) from the mirror image of the left palm (postural, canned "
+                 "and greet mirror one side's postures and motions with these signs)"}};
+  }
+  std::vector<RobotFinding> out{
+      {Level::kOk, "mirror signs",
+       "arm: " + std::to_string(samples) + " mirrored configurations put the palms within " +
+           fixed(worst_m * 1000, 2) + " mm and " + fixed(worst_rad * 180 / M_PI, 2) +
+           " degrees of mirror images"}};
+  // Hands: the fist of the left hand and its mirror image on the right, both arms mirrored.
+  const std::vector<double>& hand_signs = robot.mirror_signs.at("hand");
+  const auto& fist = robot.postures.at("fist");
+  std::vector<double> rest_left = scene.robot().postures.at("rest").at("left_arm"), rest_mirror;
+  for (size_t i = 0; i < rest_left.size(); ++i) rest_mirror.push_back(signs[i] * rest_left[i]);
+  std::vector<double> fist_mirror;
+  for (size_t i = 0; i < fist.at("left_hand").size(); ++i) {
+    fist_mirror.push_back(hand_signs[i] * fist.at("left_hand")[i]);
+  }
+  probe.reset(true);
+  probe.set("torso", clamped_zeros(scene.chain("torso")));
+  probe.set("left_arm", rest_left);
+  probe.set("right_arm", rest_mirror);
+  probe.set("left_hand", fist.at("left_hand"));
+  probe.set("right_hand", fist_mirror);
+  probe.kinematics();
+  const mjModel* m = scene.model();
+  double worst_tip = 0;
+  for (const core::FingerSpec& f : lh->fingers) {
+    const Vec3 tip =
+        mirrored(probe.segment_centre(mj_name2id(m, mjOBJ_BODY, f.bodies.back().c_str())));
+    double nearest = 1e9;
+    for (const core::FingerSpec& g : rh->fingers) {
+      nearest = std::min(
+          nearest,
+          (probe.segment_centre(mj_name2id(m, mjOBJ_BODY, g.bodies.back().c_str())) - tip).norm());
+    }
+    worst_tip = std::max(worst_tip, nearest);
+  }
+  if (worst_tip > kMirrorTolM) {
+    out.push_back({Level::kError, "mirror signs",
+                   "mirror_signs.hand: the left fist mirrored to the right hand puts a right "
+                   "fingertip " +
+                       fixed(worst_tip * 100, 1) + " cm from the mirror image of the left one"});
+  } else {
+    out.push_back({Level::kOk, "mirror signs",
+                   "hand: the mirrored fist's fingertips lie within " + fixed(worst_tip * 1000, 2) +
+                       " mm of mirror images"});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<RobotFinding> check_robot_kinematics(const Scene& scene) {
+  std::vector<RobotFinding> out;
+  out.push_back(check_chains(scene));
+  for (RobotFinding& f : check_postures(scene)) out.push_back(std::move(f));
+  out.push_back(check_camera(scene));
+  for (RobotFinding& f : check_mirror(scene)) out.push_back(std::move(f));
+  for (RobotFinding& f : check_hands(scene)) out.push_back(std::move(f));
+  return out;
+}
+
+std::vector<RobotFinding> check_reach_envelope(
+    const std::vector<std::shared_ptr<const Scene>>& scenes, double min_reach_m) {
+  std::vector<RobotFinding> out;
+  if (scenes.empty()) return out;
+  const Scene& scene = *scenes.front();
+  const mjModel* m = scene.model();
+  Probe probe(scene);
+  probe.reset(true);
+  probe.kinematics();
+
+  // The surfaces, and the robot's front at each surface: the furthest forward of its geoms
+  // that no limb moves and that reach below the surface's top (the surface is taken as solid
+  // down to the floor, as a counter is; what is higher passes over it).
+  struct Surface {
+    std::string label;
+    double top = 0, front = 0, best = -1e9;
+    Vec3 palm = Vec3::Zero();
+  };
+  std::vector<Surface> surfaces;
+  const std::vector<char> limbs = moved_by(scene, kLimbChains);
+  for (const auto& s : scenes) {
+    Probe env(*s);
+    env.reset(true);
+    env.kinematics();
+    const mjModel* em = s->model();
+    for (const auto& [name, obj] : s->environment().objects) {
+      if (obj.kind != core::ObjectKind::kSurface) continue;
+      // A surface's body origin is the centre of its top face (models/README.md).
+      const int b = mj_name2id(em, mjOBJ_BODY, obj.bodies.front().c_str());
+      const double top = env.body_position(b).z();
+      Surface surface;
+      surface.label = s->environment().name + " " + name;
+      surface.top = top;
+      surface.front = -1e9;
+      for (int g = 0; g < m->ngeom; ++g) {
+        if (!scene.is_robot_geom(g) || limbs[m->geom_bodyid[g]]) continue;
+        if (!(m->geom_contype[g] || m->geom_conaffinity[g])) continue;
+        if (-probe.support(g, -Vec3::UnitZ()) >= top) continue;  // passes over the surface
+        surface.front = std::max(surface.front, probe.support(g, Vec3::UnitX()));
+      }
+      surfaces.push_back(surface);
+    }
+  }
+
+  std::mt19937_64 rng(20261202);
+  const ChainIndex& torso = scene.chain("torso");
+  for (const core::HandSpec& hand : scene.robot().hands) {
+    const ChainIndex& arm = scene.chain(hand.side + "_arm");
+    for (int n = 0; n < 4000; ++n) {
+      std::vector<double> qa, qt;
+      for (size_t i = 0; i < arm.lower.size(); ++i)
+        qa.push_back(uniform(rng, arm.lower[i], arm.upper[i]));
+      for (size_t i = 0; i < torso.lower.size(); ++i) {
+        qt.push_back(uniform(rng, torso.lower[i], torso.upper[i]));
+      }
+      probe.reset(true);
+      probe.set(hand.side + "_arm", qa);
+      probe.set("torso", qt);
+      probe.kinematics();
+      const Vec3 p = probe.position(hand.palm);
+      if (std::abs(p.y()) > 0.35) continue;
+      int collides = -1;  // unknown
+      for (Surface& s : surfaces) {
+        if (p.z() < s.top + 0.02 || p.z() > s.top + 0.15 || p.x() - s.front <= s.best) continue;
+        if (collides < 0) {
+          collides = 0;
+          for (const auto& [g1, g2] : probe.contacts()) {
+            collides |= scene.is_robot_geom(g1) && scene.is_robot_geom(g2);
+          }
+        }
+        if (collides) break;
+        s.best = p.x() - s.front;
+        s.palm = p;
+      }
+    }
+  }
+  for (const Surface& s : surfaces) {
+    const std::string where = s.label + " (top " + fixed(s.top, 3) + " m, the robot's front at x " +
+                              fixed(s.front, 2) + " m)";
+    if (s.best < min_reach_m) {
+      out.push_back({Level::kError, "reach envelope",
+                     where + ": the palm gets " +
+                         (s.best < -1e8 ? std::string("nowhere") : fixed(s.best, 2) + " m") +
+                         " beyond the robot's front 2-15 cm above the top (need " +
+                         fixed(min_reach_m, 2) +
+                         " m: objects stand up to that far in from an edge)"});
+    } else {
+      out.push_back({Level::kOk, "reach envelope",
+                     where + ": the palm gets " + fixed(s.best, 2) +
+                         " m beyond the front, at height " + fixed(s.palm.z(), 2) + " m"});
+    }
+  }
+  return out;
+}
+
+}  // namespace taskmatrix::mujoco

@@ -1,0 +1,146 @@
+// `taskmatrix check-robot`, run as a user adding a robot would: the built-in robots pass the
+// lint; robots broken on purpose in a scratch models folder fail it with the profile key at
+// fault and exit status 1; the quick run prints one line per program and exits 4 when one
+// fails.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tests/test_support.h"
+
+namespace taskmatrix::test {
+namespace {
+
+// A copy of minibot named `name` in the scratch root's models, to be broken.
+void copy_minibot(const ScratchRoot& root, const std::string& name) {
+  const std::filesystem::path dir = root.path() / "models" / "robots" / name;
+  std::filesystem::copy(root.path() / "models" / "robots" / "minibot", dir);
+  root.replace("models/robots/" + name + "/profile.yaml", "name: minibot", "name: " + name);
+}
+
+TEST(CheckRobot, BuiltInRobotsPassTheLint) {
+  for (const std::string robot : {"atlas", "tallbot", "minibot"}) {
+    const CommandResult r = run_cli("check-robot " + robot + " --no-run", TASKMATRIX_TEST_ROOT);
+    EXPECT_EQ(r.exit_code, 0) << robot << "\n" << r.out << r.err;
+    EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
+    // tallbot's thumb closes across its closing axis: a warning, not an error.
+    for (const char* check : {"| load | ok |", "| mirror signs | ok |", "| palm axes | ",
+                              "| fingers | ok |", "| head camera | ok |"}) {
+      EXPECT_NE(r.out.find(check), std::string::npos) << robot << ": " << check << "\n" << r.out;
+    }
+    // Every surface of both rooms is within reach.
+    for (const char* surface : {"kitchen work_surface", "office side_surface"}) {
+      EXPECT_NE(r.out.find(std::string("| reach envelope | ok | ") + surface), std::string::npos)
+          << robot << ": " << surface << "\n"
+          << r.out;
+    }
+    EXPECT_EQ(r.out.find("| ERROR |"), std::string::npos) << r.out;
+  }
+}
+
+struct BrokenRobot {
+  std::string name;
+  std::function<void(const ScratchRoot&, const std::string& profile, const std::string& model)>
+      corrupt;
+  std::string expected;  // in the lint table
+};
+void PrintTo(const BrokenRobot& b, std::ostream* os) { *os << b.name; }
+
+class CheckRobotBroken : public ::testing::TestWithParam<BrokenRobot> {};
+
+TEST_P(CheckRobotBroken, FailsTheLintWithTheKeyAndExitsOne) {
+  const BrokenRobot& b = GetParam();
+  ScratchRoot root;
+  copy_minibot(root, "broken");
+  b.corrupt(root, "models/robots/broken/profile.yaml", "models/robots/broken/minibot.xml");
+  const CommandResult r = run_cli("check-robot broken", root.path());
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("| ERROR |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(b.expected), std::string::npos) << "expected '" << b.expected << "' in:\n"
+                                                       << r.out;
+  EXPECT_NE(r.out.find("the programs were not run"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(root.path() / "results")) << "ran programs anyway";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Lint, CheckRobotBroken,
+    ::testing::Values(
+        // The approach axis points into the palm: the palm block lies in front of the origin.
+        BrokenRobot{"ApproachIntoThePalm",
+                    [](const ScratchRoot& r, const std::string& p, const std::string&) {
+                      r.replace(p, "approach: [1, 0, 0]", "approach: [-1, 0, 0]");
+                    },
+                    "hands.left.approach: geom 'LPalmBlock' of the palm's body reaches"},
+        // A mirror sign that keeps every posture within limits but mirrors the elbow wrongly.
+        BrokenRobot{"MirrorSignWrong",
+                    [](const ScratchRoot& r, const std::string& p, const std::string&) {
+                      r.replace(p, "arm:        [1, -1, -1, 1, -1]",
+                                "arm:        [1, -1, 1, 1, -1]");
+                    },
+                    "mirror_signs.arm: at left_arm ["},
+        // The fist opens the hand: the fingertips move away from the palm.
+        BrokenRobot{"FistOpensTheHand",
+                    [](const ScratchRoot& r, const std::string& p, const std::string&) {
+                      r.replace(p, "  fist:\n    left_hand:  [0.4, 0.45, 0.4, 0.45]",
+                                "  fist:\n    left_hand:  [-0.4, 0, -0.4, 0]");
+                    },
+                    "hands.left.fingers: fingers[0]: its tip ends"},
+        // The rest posture closes the fingers into each other.
+        BrokenRobot{"RestFingersOverlap",
+                    [](const ScratchRoot& r, const std::string& p, const std::string&) {
+                      r.replace(p,
+                                "    left_hand:  [-0.3, 0, -0.3, 0]\n    right_hand: [-0.3, 0, "
+                                "-0.3, 0]\n  hand_open",
+                                "    left_hand:  [0.8, 1, 0.8, 1]\n    right_hand: [-0.3, 0, -0.3, "
+                                "0]\n  hand_open");
+                    },
+                    "postures.rest: at the start of kitchen, LFinger1"},
+        // A camera that looks backwards is refused when the robot loads.
+        BrokenRobot{"CameraLooksBackwards",
+                    [](const ScratchRoot& r, const std::string&, const std::string& m) {
+                      r.replace(m, "xyaxes=\"0 -1 0 0.5 0 0.8660254037844386\"",
+                                "xyaxes=\"0 1 0 -0.5 0 0.8660254037844386\"");
+                    },
+                    "| load | ERROR | in kitchen: "}),
+    [](const auto& p) { return p.param.name; });
+
+// The quick run goes through the scenario runner with the root's default suite: here a
+// two-scenario suite in a scratch root, one that succeeds and one that cannot.
+TEST(CheckRobot, QuickRunPrintsAProgramTableAndExitsFourOnAFailure) {
+  ScratchRoot root;
+  std::filesystem::create_directories(root.path() / "scenarios" / "suites");
+  std::filesystem::create_directories(root.path() / "scenarios" / "programs");
+  root.write("scenarios/programs/postural.yaml",
+             "program: postural\nparams: {posture: wave_start, side: as_named}\n"
+             "robots: [minibot]\nenvironments: [kitchen]\nobstacles: {count: 2}\n"
+             "time_limit_s: 20\nsuccess: postural(wave_start)\n");
+  root.write("scenarios/programs/unreachable.yaml",
+             "program: reach\nparams: {object: visitor, base: false, torso: false}\n"
+             "robots: [minibot]\nenvironments: [kitchen]\nobstacles: {count: 2}\n"
+             "time_limit_s: 20\n");
+  root.write(
+      "scenarios/suites/default.yaml",
+      "suite: default\nscenarios: [../programs/postural.yaml, ../programs/unreachable.yaml]\n");
+  const CommandResult r = run_cli("check-robot minibot --env office --jobs 1", root.path());
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| postural | success |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| unreachable | ik_failure |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Programs: 1 of 2 succeeded."), std::string::npos) << r.out;
+  // The run stays for inspection, in its own directory.
+  const std::filesystem::path run = root.path() / "results/runs/check-robot-minibot-office";
+  EXPECT_TRUE(std::filesystem::exists(run / "trials.jsonl"));
+  EXPECT_TRUE(std::filesystem::exists(run / "summary.md"));
+}
+
+TEST(CheckRobot, UnknownNamesAreBadInput) {
+  CommandResult r = run_cli("check-robot nobody --no-run", TASKMATRIX_TEST_ROOT);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("unknown robot 'nobody' (known: "), std::string::npos) << r.err;
+  r = run_cli("check-robot minibot --env attic", TASKMATRIX_TEST_ROOT);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("unknown environment 'attic'"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace taskmatrix::test
