@@ -134,10 +134,14 @@ class Graspable final : public Condition {
     const PerceivedObject* known = w.percepts.find(a_);
     const Eigen::Vector3d grasp_point =
         (h && h->id == a_) || !known ? box->center() : known->grasp_point();
+    const bool tool = known && known->frames.count("grip");
     for (const HandSpec& hand : w.skills.profile().hands) {
       if (side_ != "any" && hand.side != side_) continue;
       const Pose palm = w.skills.frame_pose(hand.palm);
       if ((palm.position - grasp_point).norm() <= kGraspableDistance) return true;
+      // A grasp of an object (not a tool's grip) may hold it anywhere within its box: from
+      // above, the palm stays over the top of a tall object.
+      if (!tool && box->contains(palm.position)) return true;
     }
     return false;
   }

@@ -12,6 +12,7 @@
 //   grasping(A)           A is held by a hand (attached through the skillset)
 //   graspable(A, side)    A is known, not held, and the palm of `side` ("left", "right" or
 //                         "any") is within 3 cm of A's grasp point (PerceivedObject::grasp_point)
+//                         or, for an object without a grip frame, inside A's box
 //   in_view(A)            part of A's box is inside the head camera's field of view and the
 //                         sensor's range: one of 27 points (corners, edge and face centres,
 //                         centre) is (nothing about occlusion)

@@ -51,6 +51,7 @@ class Executive::Context final : public ProgramContext {
     }
     e_.series_[it->second].samples.emplace_back(e_.skills_.time(), value);
   }
+  std::vector<std::string>& notes(const std::string& key) override { return e_.notes_[key]; }
 
  private:
   Executive& e_;

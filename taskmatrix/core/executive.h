@@ -92,6 +92,7 @@ class Executive {
   std::map<std::string, int> chain_holder_;
   std::vector<Message> log_;
   std::vector<RecordedSeries> series_;
+  std::map<std::string, std::vector<std::string>> notes_;  // ProgramContext::notes
   bool refresh_percepts_ = false;  // a program ended: perceive before the next steps
   int next_id_ = 1;
   std::uint64_t seed_counter_ = 0;

@@ -1,6 +1,27 @@
 #include "taskmatrix/core/perceptual_model.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace taskmatrix::core {
+
+double Shape::half_width(const Eigen::Vector3d& u) const {
+  const Eigen::Vector3d local = pose.orientation.conjugate() * u;
+  switch (type) {
+    case Type::kBox:
+      return local.cwiseAbs().dot(size);
+    case Type::kSphere:
+      return size.x();
+    case Type::kCapsule:
+      return size.x() + std::abs(local.z()) * size.y();
+    case Type::kCylinder:
+      return size.x() * std::sqrt(std::max(0.0, 1 - local.z() * local.z())) +
+             std::abs(local.z()) * size.y();
+    case Type::kEllipsoid:
+      return local.cwiseProduct(size).norm();
+  }
+  return 0;
+}
 
 void PerceptualModel::observe(PerceivedObject object) {
   std::string id = object.id;

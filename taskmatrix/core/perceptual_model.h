@@ -15,6 +15,19 @@
 
 namespace taskmatrix::core {
 
+// One primitive of an object's collision geometry, as perception reports it (recognition
+// knows the model of what it recognises): programs derive grasps from these.
+struct Shape {
+  enum class Type { kBox, kSphere, kCapsule, kCylinder, kEllipsoid };
+  Type type = Type::kBox;
+  Pose pose;  // world; capsules and cylinders lie along the pose's z axis
+  // Half extents (box, ellipsoid); radius and half-length (capsule: of its segment, cylinder);
+  // radius (sphere, in x).
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  // Half extent of the shape along the world unit direction `u` (its support width).
+  double half_width(const Eigen::Vector3d& u) const;
+};
+
 struct PerceivedObject {
   std::string id;    // symbolic name: "cup", "debris_2", "work_surface", "obstacle_4", "visitor"
   std::string type;  // "graspable", "tool", "surface", "debris", "obstacle", "humanoid"
@@ -25,6 +38,8 @@ struct PerceivedObject {
   // Named frames the object's model declares: a tool's "grip" (where a hand holds it) and
   // "tip" (its working end).
   std::map<std::string, Pose, std::less<>> frames;
+  // The collision geometry (empty when perception knows only the box).
+  std::vector<Shape> shapes;
 
   // Where a hand grasps it: the "grip" frame's position if it has one, else the box centre.
   Eigen::Vector3d grasp_point() const {

@@ -61,6 +61,9 @@ struct PlanOptions {
   // (which may be closer): room for the execution's tracking error. 0: paths may touch.
   double clearance_m = 0.01;
   std::uint32_t seed = 1;  // > 0
+  // Objects (symbolic names) the start may touch, a few millimetres deep: what a hand let go
+  // of, what a reaching hand brushes. Paths leave them within the endpoint radius.
+  std::vector<std::string> may_touch;
 };
 
 enum class IkStatus {

@@ -186,9 +186,10 @@ class Skillset {
 
   // ---- Attachment of grasped objects.
   // From now on `object` moves rigidly with the hand of `side` ("left"/"right") and is part
-  // of the robot for collisions, except against that hand and the surfaces it rests on at
-  // the moment of attachment (tolerating 5 mm). Throws std::invalid_argument for an unknown
-  // object or side, or an object already attached.
+  // of the robot for collisions, except against that hand and the surfaces it rests on
+  // (tolerating 5 mm): what it touches at the moment of attachment and when any later query or
+  // plan starts. Throws std::invalid_argument for an unknown object or side, or an object
+  // already attached.
   virtual void attach(const std::string& object, const std::string& side) = 0;
   // Returns the object to physics where it is. Throws for an object not attached.
   virtual void detach(const std::string& object) = 0;

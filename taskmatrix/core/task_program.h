@@ -102,6 +102,10 @@ class ProgramContext {
   // Appends (time(), value) to this program instance's time series `series` (tracking error,
   // coverage, ...), kept by the executive for the run's results.
   virtual void record(const std::string& series, double value) = 0;
+  // Notes the programs of one run share (the executive keeps them for its lifetime): what a
+  // later program needs to know of an earlier one's outcome, such as the grasps of an object
+  // that did not hold. Keys and entries are the programs' own.
+  virtual std::vector<std::string>& notes(const std::string& key) = 0;
 };
 
 // What a program may consider when it chooses its chains (before it starts).

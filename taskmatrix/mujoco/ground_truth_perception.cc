@@ -57,6 +57,49 @@ void add_geom(const mjModel* m, const mjData* d, int g, Eigen::AlignedBox3d& box
   box.extend(c + half);
 }
 
+// The collision geoms of `body` (and, for a subtree, its descendants) as shapes.
+std::vector<core::Shape> collision_shapes(const mjModel* m, const mjData* d, int body,
+                                          bool subtree) {
+  std::vector<core::Shape> out;
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_contype[g] == 0 && m->geom_conaffinity[g] == 0) continue;
+    bool mine = false;
+    for (int up = m->geom_bodyid[g]; !mine && up > 0; up = subtree ? m->body_parentid[up] : 0) {
+      mine = up == body;
+    }
+    if (!mine) continue;
+    core::Shape s;
+    switch (m->geom_type[g]) {
+      case mjGEOM_BOX:
+        s.type = core::Shape::Type::kBox;
+        break;
+      case mjGEOM_SPHERE:
+        s.type = core::Shape::Type::kSphere;
+        break;
+      case mjGEOM_CAPSULE:
+        s.type = core::Shape::Type::kCapsule;
+        break;
+      case mjGEOM_CYLINDER:
+        s.type = core::Shape::Type::kCylinder;
+        break;
+      case mjGEOM_ELLIPSOID:
+        s.type = core::Shape::Type::kEllipsoid;
+        break;
+      default:
+        continue;  // planes and meshes are not graspable primitives
+    }
+    const double* p = d->geom_xpos + 3 * g;
+    const double* r = d->geom_xmat + 9 * g;
+    Eigen::Matrix3d rot;
+    rot << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
+    s.pose.position = Eigen::Vector3d(p[0], p[1], p[2]);
+    s.pose.orientation = Eigen::Quaterniond(rot).normalized();
+    s.size = Eigen::Vector3d(m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]);
+    out.push_back(s);
+  }
+  return out;
+}
+
 core::Pose body_pose(const mjData* d, int body) {
   return frame_pose(d, FrameRef{FrameRef::Kind::kBody, body});
 }
@@ -132,6 +175,8 @@ std::optional<core::PerceivedObject> perceive(const MujocoSkillset& skills, cons
   o.box = thing.type == "surface" ? surface_box(m, d, thing.body)
                                   : body_box(m, d, thing.body, thing.subtree);
   if (o.box.isEmpty()) return std::nullopt;
+  if (thing.type == "graspable" || thing.type == "tool")
+    o.shapes = collision_shapes(m, d, thing.body, thing.subtree);
   o.last_seen = time;
   o.confidence = 1.0;
   if (thing.grip_site >= 0) {

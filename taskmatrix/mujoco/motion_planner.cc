@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <optional>
 
 #include "taskmatrix/mujoco/validity_checker.h"
 
@@ -253,12 +254,14 @@ std::string check_planner_spec(const PlannerSpec& spec) {
 }
 
 MotionPlanner::MotionPlanner(const Scene& scene, const mjModel* m, mjData* d,
-                             std::vector<int> joints, std::vector<Attachment> attachments)
+                             std::vector<int> joints, std::vector<Attachment> attachments,
+                             std::vector<int> touch_geoms)
     : scene_(scene),
       m_(m),
       d_(d),
       joints_(std::move(joints)),
-      attachments_(std::move(attachments)) {}
+      attachments_(std::move(attachments)),
+      touch_geoms_(std::move(touch_geoms)) {}
 
 MotionPlanner::MotionPlanner(const Scene& scene, WorkerScene& worker, std::vector<int> joints)
     : MotionPlanner(scene, worker.model(), worker.data(), std::move(joints)) {}
@@ -323,6 +326,11 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   for (size_t i = 0; i < n; ++i) d->qpos[m->jnt_qposadr[joints_[i]]] = start[i];
   mj_kinematics(m, d);
   ValidityChecker checker(scene_, m, d, joints_, attachments_);
+  // Near the start, contact with what the start may touch is allowed (shallow).
+  std::optional<ValidityChecker> touching;
+  if (!touch_geoms_.empty()) {
+    touching.emplace(scene_, m, d, joints_, attachments_, touch_geoms_, kTouchDepth);
+  }
   auto restore = [&] {
     std::copy(saved.begin(), saved.end(), d->qpos);
     mj_kinematics(m, d);
@@ -342,7 +350,10 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
                   mj_id2name(m, mjOBJ_JOINT, joints_[i]), start[i], lo[i], hi[i]);
     return fail(core::PlanStatus::kInvalidStart, buf);
   }
-  if (checker.static_collision() || checker.in_collision(start.data())) {
+  const bool start_touches_allowed =
+      touching && !touching->static_collision() && !touching->in_collision(start.data());
+  if (!start_touches_allowed &&
+      (checker.static_collision() || checker.in_collision(start.data()))) {
     const std::string contacts = describe_robot_contacts(scene_, m, d, attachments_);
     restore();
     return fail(core::PlanStatus::kInvalidStart,
@@ -364,22 +375,23 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   // space, max-norm) of the start or a goal, which may be closer (a hand next to what it will
   // grasp). Without it, simplified paths graze obstacles and execution, which tracks the
   // path only to within a few millimetres, touches them.
+  auto near = [&](const double* v, const std::vector<double>& e) {
+    for (size_t i = 0; i < n; ++i) {
+      if (std::abs(v[i] - e[i]) > kEndpointRadius) return false;
+    }
+    return true;
+  };
   auto near_endpoint = [&](const double* v) {
-    auto near = [&](const std::vector<double>& e) {
-      for (size_t i = 0; i < n; ++i) {
-        if (std::abs(v[i] - e[i]) > kEndpointRadius) return false;
-      }
-      return true;
-    };
-    if (near(start)) return true;
+    if (near(v, start)) return true;
     for (const auto& g : goals) {
-      if (near(g)) return true;
+      if (near(v, g)) return true;
     }
     return false;
   };
   const double clearance = o.clearance_m;
-  si->setStateValidityChecker([&checker, clearance, near_endpoint](const ob::State* s) {
+  si->setStateValidityChecker([&, clearance](const ob::State* s) {
     const auto* v = s->as<ob::RealVectorStateSpace::StateType>()->values;
+    if (start_touches_allowed && near(v, start)) return !touching->in_collision(v);
     if (clearance > 0) {
       if (!checker.within_margin(v, clearance)) return true;
       if (!near_endpoint(v)) return false;
@@ -426,7 +438,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   planner->setProblemDefinition(pdef);
   planner->setup();
 
-  const std::uint64_t checks_before = checker.checks();
+  const std::uint64_t checks_before = checker.checks() + (touching ? touching->checks() : 0);
   Budget budget(o.max_iterations, o.time_limit_s);
   const ob::PlannerTerminationCondition ptc([&budget] { return budget(); });
   const auto t_plan = std::chrono::steady_clock::now();
@@ -496,7 +508,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
       if (dmax < 1e-9) result.goal_index = goal_index_of_state[k];
     }
   }
-  result.collision_checks = checker.checks() - checks_before;
+  result.collision_checks = checker.checks() + (touching ? touching->checks() : 0) - checks_before;
   restore();
   return result;
 }

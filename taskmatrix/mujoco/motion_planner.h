@@ -36,9 +36,12 @@ std::string check_planner_spec(const PlannerSpec& spec);
 class MotionPlanner {
  public:
   // Plans for `joints` (robot hinge/slide joint ids) on model `m` and data `d` (its qpos is
-  // the start; every other joint stays where it is), with `attachments` held.
+  // the start; every other joint stays where it is), with `attachments` held. The start, and
+  // states within the endpoint radius of it, may touch `touch_geoms` up to kTouchDepth of
+  // penetration (PlanOptions::may_touch): a plan may start against what a hand let go of.
   MotionPlanner(const Scene& scene, const mjModel* m, mjData* d, std::vector<int> joints,
-                std::vector<Attachment> attachments = {});
+                std::vector<Attachment> attachments = {}, std::vector<int> touch_geoms = {});
+  static constexpr double kTouchDepth = 0.005;
   // The same on a worker's model and data.
   MotionPlanner(const Scene& scene, WorkerScene& worker, std::vector<int> joints);
 
@@ -51,6 +54,7 @@ class MotionPlanner {
   mjData* d_;
   std::vector<int> joints_;
   std::vector<Attachment> attachments_;
+  std::vector<int> touch_geoms_;
 };
 
 }  // namespace taskmatrix::mujoco

@@ -21,6 +21,22 @@ std::string body_name(const mjModel* m, int body) {
   return name ? name : "body " + std::to_string(body);
 }
 
+// The geoms that are not the robot's and touch object `body` (a root body) in `d`'s contacts.
+std::vector<int> supports_of(const mjModel* m, const mjData* d, const Scene& scene, int body) {
+  std::vector<int> out;
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    const int r1 = m->body_rootid[m->geom_bodyid[c.geom1]];
+    const int r2 = m->body_rootid[m->geom_bodyid[c.geom2]];
+    const int other = r1 == body ? c.geom2 : (r2 == body ? c.geom1 : -1);
+    if (other >= 0 && !scene.is_robot_geom(other) &&
+        std::find(out.begin(), out.end(), other) == out.end()) {
+      out.push_back(other);
+    }
+  }
+  return out;
+}
+
 core::PlanResult plan_failure(core::PlanStatus status, std::string message) {
   core::PlanResult r;
   r.status = status;
@@ -347,6 +363,16 @@ std::optional<core::PlanResult> MujocoSkillset::plan_joints(
   return std::nullopt;
 }
 
+std::optional<core::PlanResult> MujocoSkillset::touch_geoms(const core::PlanOptions& options,
+                                                            std::vector<int>& geoms) const {
+  try {
+    geoms = object_geoms(options.may_touch);
+  } catch (const std::invalid_argument& e) {
+    return plan_failure(core::PlanStatus::kInvalidInput, std::string("may_touch: ") + e.what());
+  }
+  return std::nullopt;
+}
+
 std::vector<int> MujocoSkillset::joints_of(const std::vector<std::string>& chain_names) const {
   if (chain_names.empty()) throw std::invalid_argument("no chains given");
   std::vector<int> joints;
@@ -415,6 +441,46 @@ int MujocoSkillset::object_body(const std::string& object) const {
   return mj_name2id(worker_.model(), mjOBJ_BODY, it->second.bodies.front().c_str());
 }
 
+std::vector<int> MujocoSkillset::object_geoms(const std::vector<std::string>& objects) const {
+  const mjModel* m = worker_.model();
+  std::vector<int> bodies;
+  for (const std::string& name : objects) {
+    const auto spec = scene_->environment().objects.find(name);
+    if (spec != scene_->environment().objects.end()) {
+      for (const std::string& b : spec->second.bodies) {
+        bodies.push_back(mj_name2id(m, mjOBJ_BODY, b.c_str()));
+      }
+    } else if (const int b = mj_name2id(m, mjOBJ_BODY, name.c_str()); b > 0) {
+      bodies.push_back(b);
+    } else {
+      throw std::invalid_argument("no object or body '" + name + "' in environment " +
+                                  scene_->environment().name);
+    }
+  }
+  std::vector<int> geoms;
+  for (int g = 0; g < m->ngeom; ++g) {
+    for (int up = m->geom_bodyid[g]; up > 0; up = m->body_parentid[up]) {
+      if (std::find(bodies.begin(), bodies.end(), up) != bodies.end()) {
+        geoms.push_back(g);
+        break;
+      }
+    }
+  }
+  return geoms;
+}
+
+void MujocoSkillset::refresh_supports() {
+  const mjModel* m = worker_.model();
+  const mjData* d = worker_.data();
+  for (Attachment& a : attachments_) {
+    for (int g : supports_of(m, d, *scene_, a.body)) {
+      if (std::find(a.support_geoms.begin(), a.support_geoms.end(), g) == a.support_geoms.end()) {
+        a.support_geoms.push_back(g);
+      }
+    }
+  }
+}
+
 std::vector<char> MujocoSkillset::moved_bodies(const std::vector<int>& joints) const {
   const mjModel* m = worker_.model();
   std::vector<char> moved(m->nbody, 0);
@@ -479,6 +545,7 @@ core::IkResult MujocoSkillset::solve_ik(const std::vector<std::string>& chain_na
     return r;
   }
   const BeliefScope belief(*this);
+  refresh_supports();
   sync_query();
   core::IkResult result = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame,
                                            target, options, attachments_);
@@ -493,6 +560,7 @@ bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
   check_values(chain_names, joints, values, "configuration");
   if (!within_limits(joints, values)) return false;
   const BeliefScope belief(*this);
+  refresh_supports();
   sync_query();
   ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
   ++work_.collision_checks;
@@ -507,6 +575,7 @@ double MujocoSkillset::clearance(const std::vector<std::string>& chain_names,
     throw std::invalid_argument("clearance cap must be a positive number of metres");
   }
   const BeliefScope belief(*this);
+  refresh_supports();
   sync_query();
   ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
   return checker.distance(values.data(), max_distance_m);
@@ -515,11 +584,13 @@ double MujocoSkillset::clearance(const std::vector<std::string>& chain_names,
 core::PlanResult MujocoSkillset::plan_to_configuration(const std::vector<std::string>& chain_names,
                                                        const std::vector<double>& goal,
                                                        const core::PlanOptions& options) {
-  std::vector<int> joints;
+  std::vector<int> joints, touch;
   if (auto bad = plan_joints(chain_names, joints)) return *bad;
+  if (auto bad = touch_geoms(options, touch)) return *bad;
   const BeliefScope belief(*this);
+  refresh_supports();
   sync_query();
-  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_, touch);
   return note_plan("configuration", planner.plan({goal}, options));
 }
 
@@ -535,10 +606,12 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
     const std::vector<std::string>& chain_names, const std::string& frame,
     const std::vector<core::Pose>& targets, const core::PlanOptions& options,
     const core::IkOptions& ik) {
-  std::vector<int> joints;
+  std::vector<int> joints, touch;
   if (auto bad = plan_joints(chain_names, joints)) return *bad;
+  if (auto bad = touch_geoms(options, touch)) return *bad;
   if (targets.empty()) return plan_failure(core::PlanStatus::kInvalidInput, "no target poses");
   const BeliefScope belief(*this);
+  refresh_supports();
   core::PlanResult total;
   total.status = core::PlanStatus::kIkFailure;
   std::string ik_reasons;
@@ -559,7 +632,7 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
                     ": " + core::to_string(solved.status) + " (" + solved.reason + ")";
       continue;
     }
-    MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
+    MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_, touch);
     const core::PlanResult r = planner.plan(solved.solutions, options);
     any_planned = true;
     total.planning_time_s += r.planning_time_s;
@@ -594,13 +667,15 @@ core::PlanResult MujocoSkillset::plan_to_region(const std::vector<std::string>& 
 core::PlanResult MujocoSkillset::plan_to_region_unrecorded(
     const std::vector<std::string>& chain_names, const core::GoalRegion& region,
     const core::PlanOptions& options) {
-  std::vector<int> joints;
+  std::vector<int> joints, touch;
   if (auto bad = plan_joints(chain_names, joints)) return *bad;
+  if (auto bad = touch_geoms(options, touch)) return *bad;
   if (!region.sample || region.max_draws <= 0 || region.max_goals <= 0) {
     return plan_failure(core::PlanStatus::kInvalidInput,
                         "a goal region needs a sampler and positive draw and goal counts");
   }
   const BeliefScope belief(*this);
+  refresh_supports();
   sync_query();
   std::vector<std::vector<double>> goals;
   {
@@ -625,7 +700,7 @@ core::PlanResult MujocoSkillset::plan_to_region_unrecorded(
         "none of " + std::to_string(region.max_draws) + " draws from the goal region is valid");
   }
   sync_query();
-  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_, touch);
   return planner.plan(goals, options);
 }
 
@@ -1142,13 +1217,7 @@ void MujocoSkillset::attach(const std::string& object, const std::string& side) 
     while (up > a.holder_body) up = m->body_parentid[up];
     if (up == a.holder_body) a.hand_bodies.push_back(b);
   }
-  for (int i = 0; i < d->ncon; ++i) {
-    const mjContact& c = d->contact[i];
-    const int r1 = m->body_rootid[m->geom_bodyid[c.geom1]];
-    const int r2 = m->body_rootid[m->geom_bodyid[c.geom2]];
-    const int other = r1 == body ? c.geom2 : (r2 == body ? c.geom1 : -1);
-    if (other >= 0 && !scene_->is_robot_geom(other)) a.support_geoms.push_back(other);
-  }
+  a.support_geoms = supports_of(m, d, *scene_, body);
   // Object frame in the holder frame, from the current poses.
   double inv_pos[3], inv_quat[4];
   mju_negPose(inv_pos, inv_quat, d->xpos + 3 * a.holder_body, d->xquat + 4 * a.holder_body);

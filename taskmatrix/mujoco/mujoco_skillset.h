@@ -175,6 +175,9 @@ class MujocoSkillset final : public core::Skillset {
   // joints_of for planning calls: an unknown chain becomes an invalid_input result.
   std::optional<core::PlanResult> plan_joints(const std::vector<std::string>& chain_names,
                                               std::vector<int>& joints) const;
+  // The geoms of options.may_touch; an unknown name becomes an invalid_input result.
+  std::optional<core::PlanResult> touch_geoms(const core::PlanOptions& options,
+                                              std::vector<int>& geoms) const;
   // Throws std::invalid_argument unless `values` fits the chains and is finite.
   void check_values(const std::vector<std::string>& chain_names, const std::vector<int>& joints,
                     const std::vector<double>& values, const char* what) const;
@@ -224,6 +227,12 @@ class MujocoSkillset final : public core::Skillset {
   // Throws std::logic_error when called from inside a query (a goal sampler's callback).
   void require_no_query(const char* what) const;
   int object_body(const std::string& object) const;  // -1 if not an object's body
+  // Geoms of named objects (symbolic names or body names, with their subtrees); throws
+  // std::invalid_argument for an unknown name.
+  std::vector<int> object_geoms(const std::vector<std::string>& objects) const;
+  // Adds to each held object's supports what it touches now (besides its hand): the surface a
+  // plan lifts it from is what it rests on when the plan starts, not only when it was grasped.
+  void refresh_supports();
   // The symbolic object name of a body's object, or the body's name.
   std::string name_of_body(int body) const;
   // Robot bodies the chains' joints move, as a per-body mask.

@@ -228,6 +228,16 @@ void Scene::index_and_validate() {
       }
     }
   }
+  hand_of_body_.assign(m->nbody, -1);
+  for (size_t h = 0; h < robot_.hands.size(); ++h) {
+    const FrameRef palm = frame(robot_.hands[h].palm);
+    const int palm_body = palm.kind == FrameRef::Kind::kSite ? m->site_bodyid[palm.id] : palm.id;
+    for (int b = palm_body; b < m->nbody; ++b) {
+      int up = b;
+      while (up > palm_body) up = m->body_parentid[up];
+      if (up == palm_body) hand_of_body_[b] = static_cast<int>(h);
+    }
+  }
   head_camera_ = mj_name2id(m, mjOBJ_CAMERA, robot_.head_camera.name.c_str());
   if (head_camera_ < 0 || !is_robot_body(m->cam_bodyid[head_camera_])) {
     throw InputError(pfile, "head_camera",
@@ -352,6 +362,7 @@ void Scene::index_and_validate() {
   for (int g1 = 0; g1 < m->ngeom; ++g1) {
     for (int g2 = g1 + 1; g2 < m->ngeom; ++g2) {
       if (!is_robot_geom(g1) && !is_robot_geom(g2)) continue;
+      if (same_hand(m->geom_bodyid[g1], m->geom_bodyid[g2])) continue;
       if (auto p = collidable_pair(g1, g2)) robot_geom_pairs_.push_back(*p);
     }
   }
@@ -408,6 +419,15 @@ bool Scene::is_robot_body(int body) const {
 }
 
 bool Scene::is_robot_geom(int geom) const { return is_robot_body(model_->geom_bodyid[geom]); }
+
+int Scene::hand_of_body(int body) const {
+  return body >= 0 && body < static_cast<int>(hand_of_body_.size()) ? hand_of_body_[body] : -1;
+}
+
+bool Scene::same_hand(int body1, int body2) const {
+  const int h = hand_of_body(body1);
+  return h >= 0 && h == hand_of_body(body2);
+}
 
 void Scene::apply_posture(std::string_view posture, double* qpos) const {
   const auto it = robot_.postures.find(std::string(posture));

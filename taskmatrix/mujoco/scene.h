@@ -69,6 +69,11 @@ class Scene {
   int head_camera() const { return head_camera_; }
   bool is_robot_body(int body) const;
   bool is_robot_geom(int geom) const;
+  // The hand (index into robot().hands) that robot body `body` belongs to: the palm frame's
+  // body and every body below it; -1 for any other body. Contacts within one hand (a finger
+  // on a finger, a finger on the palm) are the hand's own business, never collisions.
+  int hand_of_body(int body) const;
+  bool same_hand(int body1, int body2) const;
   const std::vector<ObstacleSlot>& obstacle_slots() const { return obstacle_slots_; }
   // Every geom pair with a robot geom that can ever produce a contact: not filtered by
   // MuJoCo's weld/parent rule or an <exclude>, and with collision bits set, or an obstacle
@@ -110,6 +115,7 @@ class Scene {
   std::vector<ObstacleSlot> obstacle_slots_;
   std::vector<GeomPair> robot_geom_pairs_;
   std::vector<char> ever_collides_;
+  std::vector<int> hand_of_body_;
   std::vector<double> start_qpos_;
   std::vector<core::Rect2> object_footprints_;
 };

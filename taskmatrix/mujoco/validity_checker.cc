@@ -53,6 +53,7 @@ bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjCon
   if (!scene.is_robot_body(b[0]) && !scene.is_robot_body(b[1]) && k[0] < 0 && k[1] < 0) {
     return false;
   }
+  if (scene.same_hand(b[0], b[1])) return false;  // a finger on a finger of the same hand
   for (int s = 0; s < 2; ++s) {
     if (k[s] < 0) continue;
     const Attachment& a = attachments[k[s]];
@@ -125,8 +126,12 @@ bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
 
 ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d,
                                  const std::vector<int>& moving_joints,
-                                 const std::vector<Attachment>& attachments)
+                                 const std::vector<Attachment>& attachments,
+                                 const std::vector<int>& touch_geoms, double touch_depth_m)
     : scene_(scene), m_(m), d_(d), joints_(moving_joints), attachments_(attachments) {
+  auto touch_tolerance = [&](const GeomPair& p) {
+    return contains(touch_geoms, p.g1) || contains(touch_geoms, p.g2) ? touch_depth_m : 0.0;
+  };
   std::vector<char> moving(m->nbody, 0);
   for (int j : joints_) {
     if (j < 0 || j >= m->njnt || (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) ||
@@ -191,7 +196,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
           !scene.is_robot_body(m->geom_bodyid[p.g1]) || !scene.is_robot_body(m->geom_bodyid[p.g2]);
       const bool floor = m->geom_type[p.g1] == mjGEOM_PLANE || m->geom_type[p.g2] == mjGEOM_PLANE;
       changing_pair_with_world_.push_back(with_world && !floor);
-    } else if (!static_collision_ && pair_in_contact(p)) {
+      changing_pair_tolerance_.push_back(touch_tolerance(p));
+    } else if (!static_collision_ && pair_in_contact(p, touch_tolerance(p))) {
       static_collision_ = true;
     }
   }
@@ -207,7 +213,9 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
         if (object_of[b2] >= 0 && object_of[b2] < static_cast<int>(k)) continue;
         const std::optional<GeomPair> p = scene.collidable_pair(g1, g2);
         if (!p) continue;
-        const double tolerance = contains(a.support_geoms, g2) ? a.support_tolerance_m : 0.0;
+        const double tolerance =
+            std::max(contains(a.support_geoms, g2) ? a.support_tolerance_m : 0.0,
+                     contains(touch_geoms, g2) ? touch_depth_m : 0.0);
         const bool other_moves =
             moving[b2] || (object_of[b2] >= 0 && moving[attachments_[object_of[b2]].holder_body]);
         if (object_moves || other_moves) {
@@ -314,8 +322,8 @@ bool ValidityChecker::begin_check(const double* values, bool count) {
 
 bool ValidityChecker::in_collision(const double* values, bool count) {
   if (!begin_check(values, count)) return true;
-  for (const GeomPair& p : changing_pairs_) {
-    if (pair_in_contact(p)) return true;
+  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+    if (pair_in_contact(changing_pairs_[k], changing_pair_tolerance_[k])) return true;
   }
   for (const AttachedPair& p : attached_pairs_) {
     if (pair_in_contact(p.pair, p.tolerance)) return true;
@@ -327,6 +335,10 @@ bool ValidityChecker::within_margin(const double* values, double margin_m) {
   if (!begin_check(values)) return true;
   for (size_t k = 0; k < changing_pairs_.size(); ++k) {
     const GeomPair& p = changing_pairs_[k];
+    if (changing_pair_tolerance_[k] > 0) {
+      if (pair_in_contact(p, changing_pair_tolerance_[k])) return true;
+      continue;
+    }
     if (collide(p, changing_pair_with_world_[k] ? p.margin + margin_m : p.margin) > 0) return true;
   }
   for (const AttachedPair& p : attached_pairs_) {

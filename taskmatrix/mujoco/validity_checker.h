@@ -39,11 +39,13 @@ struct Attachment {
 // current for the holders: after mj_kinematics) and zeroes their velocities.
 void place_attachments(const mjModel* m, mjData* d, const std::vector<Attachment>& attachments);
 
-// True if contact `c` counts as a collision of the robot or what it holds.
 // The robot's (and its held objects') contacts at the state in `d` (kinematics and collision
 // are recomputed), as "a touches b (depth 1.2 mm); ...", at most three; "no contact" if none.
 std::string describe_robot_contacts(const Scene& scene, const mjModel* m, mjData* d,
                                     const std::vector<Attachment>& attachments);
+// True if contact `c` counts as a collision of the robot or what it holds: not a contact
+// within one hand (Scene::same_hand), of a held object with its hand, or of a held object with
+// what it rests on within the support tolerance.
 bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjContact& c,
                                const std::vector<Attachment>& attachments);
 
@@ -66,9 +68,12 @@ class ValidityChecker {
   // `moving_joints`: MuJoCo joint ids the queries may change (hinge or slide robot joints).
   // Binds to the worker's current state (data->qpos): pairs that no moving joint can change
   // are evaluated once here, and the poses of bodies that do not move are taken from it.
+  // `touch_geoms`: geoms the robot and what it holds may touch up to `touch_depth_m` of
+  // penetration (what a plan may start against: the object a hand just let go of).
   ValidityChecker(const Scene& scene, const mjModel* m, mjData* d,
                   const std::vector<int>& moving_joints,
-                  const std::vector<Attachment>& attachments = {});
+                  const std::vector<Attachment>& attachments = {},
+                  const std::vector<int>& touch_geoms = {}, double touch_depth_m = 0);
 
   // True if the pairs that cannot change are already in contact at the bound state: then
   // every configuration is invalid (a start in collision with itself or the world).
@@ -122,7 +127,8 @@ class ValidityChecker {
   std::vector<int> moving_bodies_;  // in increasing id order: parents first
   std::vector<int> moving_geoms_;
   std::vector<GeomPair> changing_pairs_;
-  std::vector<char> changing_pair_with_world_;  // per changing pair: one geom is not the robot's
+  std::vector<char> changing_pair_with_world_;   // per changing pair: one geom is not the robot's
+  std::vector<double> changing_pair_tolerance_;  // per changing pair: allowed penetration
   std::vector<Attachment> attachments_;
   std::vector<size_t> moving_attachments_;    // indices into attachments_
   std::vector<AttachedPair> attached_pairs_;  // pairs that move with moving attachments

@@ -67,6 +67,16 @@ ParamSpec text_param(std::string name, std::string doc, std::string default_valu
   return p;
 }
 
+ParamSpec integer_param(std::string name, std::string doc, std::int64_t default_value) {
+  ParamSpec p;
+  p.name = std::move(name);
+  p.type = ParamType::kInteger;
+  p.doc = std::move(doc);
+  p.required = false;
+  p.default_value = default_value;
+  return p;
+}
+
 ParamSpec flag_param(std::string name, std::string doc, bool default_value) {
   ParamSpec p;
   p.name = std::move(name);
@@ -77,21 +87,41 @@ ParamSpec flag_param(std::string name, std::string doc, bool default_value) {
   return p;
 }
 
+MachineTransition on_failed(std::string from, std::string to) {
+  MachineTransition t;
+  t.from = std::move(from);
+  t.on = MessageType::kFailed;
+  t.to = std::move(to);
+  return t;
+}
+
 MachineSpec pickup() {
   MachineSpec m;
   m.name = "pickup";
-  m.doc = "reach for an object and grasp it, fixating on it with the head meanwhile";
+  m.doc =
+      "reach for an object and grasp it, fixating on it with the head meanwhile; a grasp "
+      "that does not hold is let go of and the next grasp reached for";
   m.params = {text_param("object", "object id in the perceptual model"),
               text_param("side", "arm to use; any: the free arm nearest the object", "any", kSides),
-              flag_param("step", "step the base when arm and torso cannot reach", true)};
+              flag_param("step", "step the base when arm and torso cannot reach", true),
+              integer_param("attempts", "grasps to try before giving up", 3)};
   m.concurrent = {{"look", "fixate", {{"object", "$object"}, {"base", "false"}}, true}};
   m.states = {
-      state("reach", "reach", {{"object", "$object"}, {"side", "$side"}, {"base", "$step"}}),
+      state(
+          "reach", "reach",
+          {{"object", "$object"}, {"side", "$side"}, {"base", "$step"}, {"attempts", "$attempts"}}),
       state("grasp", "grasp", {{"object", "$object"}, {"side", "$side"}}),
+      // The grasp did not hold: open the hand, withdraw it, reach for the next grasp (reach
+      // leaves out the grasps that failed, and fails once `attempts` have).
+      state("let_go", "release", {{"side", "$side"}, {"near", "$object"}}),
+      state("back_off", "retreat",
+            {{"part", "hand"}, {"side", "$side"}, {"from", "$object"}, {"distance", "0.05"}}),
       final_state("held", true)};
   m.initial = "reach";
-  m.transitions = {on_completed("reach", "grasp"), on_completed("grasp", "held")};
-  m.transitions.back().stop = {"look"};
+  m.transitions = {on_completed("reach", "grasp"),    on_completed("grasp", "held"),
+                   on_failed("grasp", "let_go"),      on_completed("let_go", "back_off"),
+                   on_completed("back_off", "reach"), on_failed("back_off", "reach")};
+  m.transitions[1].stop = {"look"};
   return m;
 }
 
@@ -166,6 +196,7 @@ void register_primitives(core::ProgramRegistry& registry) {
   registry.add(explore_program());
   registry.add(postural_program());
   registry.add(canned_program());
+  registry.add(retreat_program());
 }
 
 void register_complex(core::ProgramRegistry& registry) {

@@ -1,10 +1,14 @@
-// grasp: closes the hand on an object (paper: "grasp"). Each segment of each finger closes
-// on its own, at half the hand's speed limit, until its body touches something or it reaches
-// the profile's fist posture. The object is then held (attached to the hand) if at least two
-// fingers touch it (every finger, for a hand with fewer).
+// grasp: closes the hand on an object (paper: "grasp"). Each segment of each finger closes on
+// its own, at half the hand's speed limit, until it touches something other than the hand
+// itself or reaches the profile's fist posture. A segment that touches stops, and so do the
+// segments between it and the palm: once a fingertip holds the object, closing the finger's
+// inner joints would only drag and tilt it. The object is then held (attached to the hand) if
+// a majority of the hand's fingers touch it (HandGeometry::fingers_needed). A grasp that does
+// not hold is noted against the candidate reach moved to, so the next reach tries another.
 #include <algorithm>
 #include <cmath>
 
+#include "taskmatrix/programs/grasp_candidates.h"
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
 
@@ -32,17 +36,21 @@ class Grasp final : public core::TaskProgram {
     const std::string chain = hand_of(side_);
     const core::ChainInfo& info = skills.chain(chain);
     hand_ = skills.profile().find_hand(side_);
+    needed_ = measure_hand(skills, *hand_).fingers_needed;
     fist_ = skills.posture("fist").at(chain);
     target_ = clamped_configuration(skills, {chain});
-    segment_body_.assign(info.joints.size(), "");
-    for (const core::FingerSpec& f : hand_->fingers) {
-      for (size_t k = 0; k < f.joints.size(); ++k) {
-        const auto it = std::find(info.joints.begin(), info.joints.end(), f.joints[k]);
-        segment_body_[it - info.joints.begin()] = f.bodies[k];
+    segments_.clear();
+    for (size_t f = 0; f < hand_->fingers.size(); ++f) {
+      const core::FingerSpec& finger = hand_->fingers[f];
+      for (size_t k = 0; k < finger.joints.size(); ++k) {
+        const auto it = std::find(info.joints.begin(), info.joints.end(), finger.joints[k]);
+        segments_.push_back(
+            {static_cast<size_t>(it - info.joints.begin()), f, k, finger.bodies[k]});
+        own_bodies_.push_back(finger.bodies[k]);
       }
     }
-    stopped_.assign(info.joints.size(), false);
-    for (size_t i = 0; i < stopped_.size(); ++i) stopped_[i] = segment_body_[i].empty();
+    stopped_.assign(info.joints.size(), true);  // joints that are no finger segment stay put
+    for (const Segment& seg : segments_) stopped_[seg.joint] = false;
     speed_ = 0.5 * info.speed.velocity;
     t0_ = ctx.time();
   }
@@ -50,16 +58,19 @@ class Grasp final : public core::TaskProgram {
   core::ProgramState step(core::ProgramContext& ctx) override {
     core::Skillset& skills = ctx.skills();
     const std::string chain = hand_of(side_);
+    // A segment touching something stops, with every segment nearer the palm on its finger.
+    for (const Segment& seg : segments_) {
+      if (stopped_[seg.joint] || !touches_world(skills, seg.body)) continue;
+      for (const Segment& inner : segments_) {
+        if (inner.finger == seg.finger && inner.index <= seg.index) stopped_[inner.joint] = true;
+      }
+    }
     const double dstep = speed_ * skills.control_period();
     bool moving = false;
-    for (size_t i = 0; i < target_.size(); ++i) {
+    for (const Segment& seg : segments_) {
+      const size_t i = seg.joint;
       if (stopped_[i]) continue;
-      if (!skills.touching(segment_body_[i]).empty()) {
-        stopped_[i] = true;  // hold the segment where it made contact
-        continue;
-      }
-      const double gap = fist_[i] - target_[i];
-      target_[i] += std::clamp(gap, -dstep, dstep);
+      target_[i] += std::clamp(fist_[i] - target_[i], -dstep, dstep);
       if (std::abs(fist_[i] - target_[i]) < 1e-9) {
         stopped_[i] = true;
         continue;
@@ -68,11 +79,29 @@ class Grasp final : public core::TaskProgram {
     }
     skills.command({chain}, target_);
     if (moving && ctx.time() - t0_ < kTimeLimitS) return core::ProgramState::kRunning;
-    return finish(skills);
+    return finish(ctx);
   }
 
  private:
-  core::ProgramState finish(core::Skillset& skills) {
+  struct Segment {
+    size_t joint;   // in the hand chain
+    size_t finger;  // in the profile's hand
+    size_t index;   // from the palm outwards
+    std::string body;
+  };
+
+  // Whether `body` touches anything but the hand's own fingers.
+  bool touches_world(const core::Skillset& skills, const std::string& body) const {
+    for (const std::string& other : skills.touching(body)) {
+      if (std::find(own_bodies_.begin(), own_bodies_.end(), other) == own_bodies_.end()) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  core::ProgramState finish(core::ProgramContext& ctx) {
+    core::Skillset& skills = ctx.skills();
     int touching = 0;
     for (const core::FingerSpec& f : hand_->fingers) {
       bool touches = false;
@@ -82,11 +111,14 @@ class Grasp final : public core::TaskProgram {
       }
       touching += touches;
     }
-    const int needed = std::min<int>(2, static_cast<int>(hand_->fingers.size()));
-    if (touching < needed) {
+    if (touching < needed_) {
+      // The grasp reach moved to did not hold: the next reach leaves it out.
+      const std::vector<std::string>& reached = ctx.notes(reached_grasp_note(object_, side_));
+      std::vector<std::string>& failed = ctx.notes(failed_grasps_note(object_, side_));
+      failed.push_back(reached.empty() ? "unknown" : reached.front());
       return fail("grasp_failed: " + std::to_string(touching) + " of " +
                   std::to_string(hand_->fingers.size()) + " fingers of the " + side_ +
-                  " hand touch '" + object_ + "' (need " + std::to_string(needed) + ")");
+                  " hand touch '" + object_ + "' (need " + std::to_string(needed_) + ")");
     }
     skills.attach(object_, side_);
     return core::ProgramState::kCompleted;
@@ -94,9 +126,11 @@ class Grasp final : public core::TaskProgram {
 
   std::string object_, side_;
   const core::HandSpec* hand_ = nullptr;
+  int needed_ = 1;
   std::vector<double> fist_, target_;
-  std::vector<std::string> segment_body_;  // per hand joint; "" if not a finger segment
-  std::vector<bool> stopped_;
+  std::vector<Segment> segments_;
+  std::vector<std::string> own_bodies_;  // the hand's finger segments
+  std::vector<bool> stopped_;            // per hand joint
   double speed_ = 1.0;
   double t0_ = 0;
 };
@@ -105,7 +139,7 @@ class Grasp final : public core::TaskProgram {
 
 core::ProgramType grasp_program() {
   return {"grasp",
-          "closes each finger segment until contact and holds `object` if two fingers touch it",
+          "closes each finger segment until contact and holds `object` if most fingers touch it",
           {{"object", core::ParamType::kString, true, {}, {}, "object id in the perceptual model"},
            {"side", core::ParamType::kString, false, std::string("any"), kSides,
             "hand to use; any: the free hand nearest the object"}},

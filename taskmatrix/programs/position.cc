@@ -6,10 +6,10 @@
 //   - `target_type`: the same, for the nearest known object of that type;
 //   - `on`: a resting placement for the held object on that surface, drawn from
 //     above(object, surface) and near(object, surface) (putdown), `height` above its rest.
-// Candidate orientations keep the held object's current tilt and turn it about the vertical;
-// for an arm with fewer than six joints that turn is left to IK. Each candidate is tried in
-// turn (IK, then planning), with the arm, then torso and arm, then base, torso and arm
-// (plan_arm_to_poses).
+// Candidate orientations stand the held object up as it stood before the grasp and turn it
+// about the vertical; the turn is also left to IK, for any arm. Each candidate is tried in turn
+// (IK, then planning), with the arm, then torso and arm, then base, torso and arm (ArmMotion).
+// A held object that rests on a surface is lifted off it first.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -86,30 +86,32 @@ class Position final : public core::TaskProgram {
     }
     if (!failure_.empty()) return;
 
-    // Keep the held object's tilt; turn it about the vertical.
-    std::vector<core::Pose> poses;
+    // The held object upright, as it stood before it was grasped (a grasp that tilted it a
+    // little does not carry the tilt to where it goes), at several turns about the vertical,
+    // which the task leaves free for any arm.
+    const Eigen::Quaterniond upright = (uprighting(*held) * now.orientation).normalized();
+    std::vector<ArmTarget> targets;
     for (const Eigen::Vector3d& p : points) {
-      for (double yaw : {0.0, -0.4, 0.4, -0.8, 0.8, -1.2, 1.2, -1.6, 1.6, M_PI}) {
-        core::Pose pose;
-        pose.position = p;
-        pose.orientation =
-            (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * now.orientation).normalized();
-        poses.push_back(pose);
+      for (double yaw : {0.0, -0.8, 0.8, -1.6, 1.6, M_PI}) {
+        ArmTarget t;
+        t.pose.position = p;
+        t.pose.orientation =
+            (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * upright).normalized();
+        t.free_axis = Eigen::Vector3d::UnitZ();
+        t.free_turn_rad = M_PI;
+        t.tag = "yaw " + std::to_string(yaw).substr(0, 4);
+        targets.push_back(t);
       }
     }
     core::IkOptions ik;
     ik.restarts = 6;
     ik.position_tolerance_m = 0.002;
     ik.orientation_tolerance_rad = 0.035;
-    if (skills.chain(arm_of(side_)).joints.size() < 6) {
-      // The turn about the vertical, in the frame's own coordinates, is left free.
-      ik.free_axis = (now.orientation.conjugate() * Eigen::Vector3d::UnitZ()).normalized();
-    }
     // A held tool loads the arm: settle to 0.01 rad (under a centimetre at the tip).
     arm_motion_.stage().execution.position_tolerance = 0.01;
     // Setting an object down may touch the surface it goes onto.
     if (!on_.empty()) arm_motion_.stage().execution.may_touch = {on_};
-    failure_ = arm_motion_.start(ctx, arm_of(side_), frame, poses, ik, torso_, base_);
+    failure_ = arm_motion_.start(ctx, arm_of(side_), frame, targets, ik, torso_, base_);
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
@@ -132,6 +134,17 @@ class Position final : public core::TaskProgram {
       if (d < best_d) best_d = d, best = o;
     }
     return best;
+  }
+
+  // The rotation that stands `held` up again: its axis nearest the vertical onto the vertical.
+  static Eigen::Quaterniond uprighting(const core::PerceivedObject& held) {
+    const Eigen::Matrix3d r = held.pose.orientation.toRotationMatrix();
+    Eigen::Vector3d axis = r.col(0);
+    for (int i = 1; i < 3; ++i) {
+      if (std::abs(r(2, i)) > std::abs(axis.z())) axis = r.col(i);
+    }
+    if (axis.z() < 0) axis = -axis;
+    return Eigen::Quaterniond::FromTwoVectors(axis, Eigen::Vector3d::UnitZ());
   }
 
   // Placements on `on_`: the object's frame where its box would rest on a drawn placement,

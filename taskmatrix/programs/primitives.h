@@ -11,6 +11,7 @@
 //   release   side, object        open the hand to its rest posture, letting go of the object
 //   postural  posture, chains, side   collision-free motion to a named posture
 //   canned    motion, side        a predetermined joint-space motion from the profile
+//   retreat   part, from, distance  the base steps back from a surface, or a hand withdraws
 //
 // The complex programs (pickup, putdown, greet, vacuum) are state machines over these; see
 // complex.cc.
@@ -32,12 +33,13 @@ core::ProgramType canned_program();
 core::ProgramType position_program();
 core::ProgramType fixate_program();
 core::ProgramType explore_program();
+core::ProgramType retreat_program();
 
-// Adds the eight primitives above to `registry`.
+// Adds the primitives above to `registry`.
 void register_primitives(core::ProgramRegistry& registry);
 // Adds pickup, putdown, greet and vacuum (the primitives must be registered).
 void register_complex(core::ProgramRegistry& registry);
-// All twelve.
+// All of them.
 void register_programs(core::ProgramRegistry& registry);
 
 }  // namespace taskmatrix::programs

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 namespace taskmatrix::programs {
 
@@ -131,86 +133,250 @@ std::string plan_failure_reason(const core::PlanResult& plan) {
   return std::string(core::to_string(plan.status)) + ": " + plan.message;
 }
 
+std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
+                                    double distance_m, bool always) {
+  core::Skillset& skills = ctx.skills();
+  const core::HandSpec* hand = skills.profile().find_hand(side);
+  if (!hand) return std::nullopt;
+  const std::string arm = arm_of(side);
+  std::vector<std::string> held, touched;
+  for (const std::string& o : skills.attached_objects()) {
+    if (skills.holder_of(o) == side) held.push_back(o);
+  }
+  auto add = [&](const std::string& name) {
+    if (std::find(held.begin(), held.end(), name) == held.end() &&
+        std::find(touched.begin(), touched.end(), name) == touched.end()) {
+      touched.push_back(name);
+    }
+  };
+  for (const std::string& o : held) {
+    for (const std::string& other : skills.touching(o)) {
+      if (ctx.percepts().knows(other)) add(other);  // the world, not the hand
+    }
+  }
+  for (const core::Collision& c : skills.collisions({arm})) add(c.other);
+  if (touched.empty() && !always) return std::nullopt;
+  const core::Pose palm = skills.frame_pose(hand->palm);
+  const Eigen::Vector3d approach(hand->approach[0], hand->approach[1], hand->approach[2]);
+  const Eigen::Vector3d direction =
+      held.empty() ? Eigen::Vector3d(-(palm.orientation * approach).normalized())
+                   : Eigen::Vector3d::UnitZ();
+  core::IkOptions ik;
+  ik.restarts = 2;
+  ik.collision_free = false;  // it starts in contact; execution checks the rest
+  ik.position_tolerance_m = 0.003;
+  ik.orientation_tolerance_rad = 0.03;
+  std::vector<std::vector<double>> path = {clamped_configuration(skills, {arm})};
+  for (double share : {0.5, 1.0}) {
+    core::Pose target = palm;
+    target.position += share * distance_m * direction;
+    ik.seed = ctx.next_seed();
+    ik.orientation = true;
+    core::IkResult r = skills.solve_ik({arm}, hand->palm, target, ik);
+    if (r.solutions.empty()) {
+      // An arm that cannot keep the hand's orientation exactly (five joints) keeps it as
+      // near as damped least squares from here does.
+      ik.orientation = false;
+      r = skills.solve_ik({arm}, hand->palm, target, ik);
+    }
+    if (r.solutions.empty()) break;
+    path.push_back(r.solutions.front());
+  }
+  if (path.size() < 2) return std::nullopt;
+  Escape e;
+  e.chains = {arm};
+  e.motion = core::timed(skills.time_parameterize(e.chains, path, 0.5));
+  e.options.position_tolerance = 0.01;
+  e.options.may_touch = touched;
+  e.touched = touched;
+  return e;
+}
+
 std::string MotionStage::plan_to_configuration(core::ProgramContext& ctx,
                                                const std::vector<std::string>& chains,
                                                const std::vector<double>& goal) {
+  for (const std::string& c : chains) {
+    if (core::chain_kind(c) != "arm") continue;
+    std::optional<Escape> escape = escape_motion(ctx, single_side({c}), 0.05);
+    if (!escape) continue;
+    pending_ctx_ = &ctx;
+    pending_chains_ = chains;
+    pending_goal_ = goal;
+    for (const std::string& t : escape->touched) {
+      if (std::find(execution.may_touch.begin(), execution.may_touch.end(), t) ==
+          execution.may_touch.end()) {
+        execution.may_touch.push_back(t);
+      }
+    }
+    follow(ctx, escape->chains, std::move(escape->motion), escape->options);
+    return "";
+  }
+  return plan_now(ctx, chains, goal);
+}
+
+std::string MotionStage::plan_now(core::ProgramContext& ctx, const std::vector<std::string>& chains,
+                                  const std::vector<double>& goal) {
   core::PlanOptions options = ctx.plan_options();
   options.seed = ctx.next_seed();
+  options.may_touch = execution.may_touch;
   ctx.emit(core::MessageType::kPlanningStarted);
   auto plan = std::make_shared<const core::PlanResult>(
       ctx.skills().plan_to_configuration(chains, goal, options));
   return start_following(ctx, chains, std::move(plan));
 }
 
-std::string MotionStage::plan_to_poses(core::ProgramContext& ctx,
-                                       const std::vector<std::string>& chains,
-                                       const std::string& frame,
-                                       const std::vector<core::Pose>& poses,
-                                       const core::IkOptions& ik) {
-  core::PlanOptions options = ctx.plan_options();
-  options.seed = ctx.next_seed();
-  core::IkOptions ik_options = ik;
-  ik_options.seed = options.seed;
-  ctx.emit(core::MessageType::kPlanningStarted);
-  auto plan = std::make_shared<const core::PlanResult>(
-      ctx.skills().plan_to_poses(chains, frame, poses, options, ik_options));
-  return start_following(ctx, chains, std::move(plan));
+std::vector<std::vector<double>> ArmMotion::solve(core::ProgramContext& ctx,
+                                                  const std::vector<std::string>& chains, size_t k,
+                                                  std::string& why) {
+  core::Skillset& skills = ctx.skills();
+  const ArmTarget& t = targets_[k];
+  core::IkOptions ik = ik_;
+  ik.seed = ctx.next_seed();
+  const bool free = t.free_axis.squaredNorm() > 0 && t.free_turn_rad > 0;
+  if (free) ik.free_axis = (t.pose.orientation.conjugate() * t.free_axis).normalized();
+  const core::IkResult r = skills.solve_ik(chains, frame_, t.pose, ik);
+  if (r.solutions.empty()) {
+    if (why.empty()) why = r.reason;
+    if (r.position_error_m < best_miss_m_) {
+      best_miss_m_ = r.position_error_m;
+      best_miss_rad_ = r.orientation_error_rad;
+      best_miss_tag_ = t.tag;
+    }
+    return {};
+  }
+  std::vector<std::vector<double>> out;
+  for (const std::vector<double>& q : r.solutions) {
+    if (free && t.free_turn_rad < M_PI) {
+      const core::Pose at = skills.frame_pose_at(chains, q, frame_);
+      const double turn =
+          Eigen::AngleAxisd(t.pose.orientation.conjugate() * at.orientation).angle();
+      if (turn > t.free_turn_rad + 0.035) {
+        if (why.empty()) why = "the turn the arm needs is outside what the target allows";
+        continue;
+      }
+    }
+    out.push_back(q);
+  }
+  return out;
 }
 
 std::string ArmMotion::reach_from_here(core::ProgramContext& ctx) {
-  std::string failure = motion_.plan_to_poses(ctx, {arm_}, frame_, poses_, ik_);
-  if (torso_ && failure.rfind("ik_failure", 0) == 0) {
-    failure = motion_.plan_to_poses(ctx, {"torso", arm_}, frame_, poses_, ik_);
+  std::vector<std::vector<std::string>> levels = {{arm_}};
+  if (torso_) levels.push_back({"torso", arm_});
+  std::string plan_failure, why;
+  int timeouts = 0;
+  for (const std::vector<std::string>& chains : levels) {
+    for (size_t k = 0; k < targets_.size(); ++k) {
+      for (const std::vector<double>& q : solve(ctx, chains, k, why)) {
+        const std::string failure = motion_.plan_now(ctx, chains, q);
+        if (failure.empty()) {
+          reached_ = static_cast<int>(k);
+          return "";
+        }
+        if (failure.rfind("invalid_start", 0) == 0 || failure.rfind("invalid_input", 0) == 0) {
+          return failure;
+        }
+        plan_failure = failure;
+        // A planner that ran out of time will not do better for the next pose of the same
+        // region; one more try, then give up (bounded work).
+        if (failure.rfind("planning_timeout", 0) == 0 && ++timeouts >= 2) return failure;
+      }
+    }
   }
-  return failure;
+  if (!plan_failure.empty()) return plan_failure;
+  std::string chains = arm_;
+  if (torso_) chains += ", torso and " + arm_;
+  char buf[200];
+  std::snprintf(buf, sizeof buf, " (best: %.1f mm, %.1f deg off, %s)", best_miss_m_ * 1e3,
+                best_miss_rad_ * 180 / M_PI, best_miss_tag_.c_str());
+  return "ik_failure: " + frame_ + " reaches none of " + std::to_string(targets_.size()) +
+         " targets with " + chains + (std::isfinite(best_miss_m_) ? buf : " (" + why + ")");
 }
 
 std::string ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
-                             const std::string& frame, std::vector<core::Pose> poses,
+                             const std::string& frame, std::vector<ArmTarget> targets,
                              const core::IkOptions& ik, bool torso, bool base) {
   arm_ = arm;
   frame_ = frame;
-  poses_ = std::move(poses);
+  targets_ = std::move(targets);
   ik_ = ik;
   torso_ = torso;
-  stepping_ = false;
+  base_ = base;
+  reached_ = -1;
+  best_miss_m_ = INFINITY;
+  if (targets_.empty()) return "invalid_input: no target for " + frame_;
+  const std::string side = single_side({arm_});
+  const bool holding =
+      std::any_of(ctx.skills().attached_objects().begin(), ctx.skills().attached_objects().end(),
+                  [&](const std::string& o) { return ctx.skills().holder_of(o) == side; });
+  if (std::optional<Escape> escape = escape_motion(ctx, side, holding ? 0.04 : 0.05)) {
+    motion_.execution.may_touch.insert(motion_.execution.may_touch.end(), escape->touched.begin(),
+                                       escape->touched.end());
+    motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
+    phase_ = Phase::kEscaping;
+    return "";
+  }
+  phase_ = Phase::kReaching;
   const std::string failure = reach_from_here(ctx);
-  if (!base || failure.rfind("ik_failure", 0) != 0) return failure;
-  // Step: a stance from which the arm reaches, found by IK over the whole body.
+  if (!base_ || failure.rfind("ik_failure", 0) != 0) return failure;
+  return step_over(ctx, failure);
+}
+
+std::string ArmMotion::step_over(core::ProgramContext& ctx, const std::string& failure) {
+  // A stance from which the arm reaches, found by IK over the whole body.
   core::Skillset& skills = ctx.skills();
   std::vector<std::string> body{"base"};
   if (torso_) body.push_back("torso");
   body.push_back(arm_);
-  core::IkOptions whole = ik_;
-  whole.seed = ctx.next_seed();
   std::string why;
-  for (size_t k = 0; k < poses_.size(); ++k) {
-    const core::IkResult r = skills.solve_ik(body, frame_, poses_[k], whole);
-    if (r.solutions.empty()) {
-      if (why.empty()) why = r.reason;
-      continue;
-    }
+  for (size_t k = 0; k < targets_.size(); ++k) {
+    const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why);
+    if (solutions.empty()) continue;
     // The base alone when the arm can stay as it is at the new stance; else the whole body.
-    const std::vector<double>& solution = r.solutions.front();
+    const std::vector<double>& solution = solutions.front();
     const size_t nb = skills.chain("base").joints.size();
     std::vector<double> stance_now = skills.configuration(body);
     std::copy(solution.begin(), solution.begin() + static_cast<long>(nb), stance_now.begin());
     if (skills.is_valid(body, stance_now)) {
       const std::vector<double> stance(solution.begin(), solution.begin() + static_cast<long>(nb));
-      const std::string moved = motion_.plan_to_configuration(ctx, {"base"}, stance);
+      const std::string moved = motion_.plan_now(ctx, {"base"}, stance);
       if (!moved.empty()) return moved;
-      stepping_ = true;
+      phase_ = Phase::kStepping;
+      stance_target_ = static_cast<int>(k);
+      stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
       return "";
     }
-    return motion_.plan_to_configuration(ctx, body, solution);
+    const std::string moved = motion_.plan_now(ctx, body, solution);
+    if (moved.empty()) reached_ = static_cast<int>(k);
+    return moved;
   }
   return failure + "; stepping: no stance found (" + why + ")";
 }
 
 std::optional<std::string> ArmMotion::step(core::ProgramContext& ctx) {
   const std::optional<std::string> result = motion_.step();
-  if (!result || !result->empty() || !stepping_) return result;
-  stepping_ = false;
+  if (!result) return result;
+  if (phase_ == Phase::kEscaping) {
+    phase_ = Phase::kReaching;
+    if (!result->empty()) return result;
+    std::string failure = reach_from_here(ctx);
+    if (base_ && failure.rfind("ik_failure", 0) == 0) failure = step_over(ctx, failure);
+    if (!failure.empty()) return failure;
+    return std::nullopt;
+  }
+  if (!result->empty() || phase_ != Phase::kStepping) return result;
+  phase_ = Phase::kReaching;
+  // At the stance: the rest of the body as the whole-body solution had it, if the base got
+  // close enough for that to still place the frame; else search again from here.
+  std::vector<std::string> rest = {arm_};
+  if (torso_) rest.insert(rest.begin(), "torso");
+  const ArmTarget& t = targets_[static_cast<size_t>(stance_target_)];
+  const core::Pose at = ctx.skills().frame_pose_at(rest, stance_rest_, frame_);
+  if ((at.position - t.pose.position).norm() <= 0.01 && ctx.skills().is_valid(rest, stance_rest_) &&
+      motion_.plan_now(ctx, rest, stance_rest_).empty()) {
+    reached_ = stance_target_;
+    return std::nullopt;
+  }
   const std::string failure = reach_from_here(ctx);
   if (!failure.empty()) return failure;
   return std::nullopt;
@@ -254,8 +420,16 @@ std::optional<std::string> MotionStage::step() {
   const std::optional<core::ExecutionReport> done = follower_->step();
   if (!done) return std::nullopt;
   follower_.reset();
-  if (done->success()) return std::string();
-  return std::string(core::to_string(done->status)) + ": " + done->message;
+  const std::string outcome =
+      done->success() ? "" : std::string(core::to_string(done->status)) + ": " + done->message;
+  if (core::ProgramContext* ctx = std::exchange(pending_ctx_, nullptr)) {
+    // The escape ended: plan from here.
+    if (!outcome.empty()) return outcome + " (moving off what the arm touched)";
+    const std::string failure = plan_now(*ctx, pending_chains_, pending_goal_);
+    if (!failure.empty()) return failure;
+    return std::nullopt;
+  }
+  return outcome;
 }
 
 }  // namespace taskmatrix::programs

@@ -3,6 +3,7 @@
 // profile it exposes.
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -65,24 +66,43 @@ std::vector<double> clamped_configuration(const core::Skillset& skills,
 // Largest |a - b| over joints.
 double max_difference(const std::vector<double>& a, const std::vector<double>& b);
 
+// A short straight motion that takes an arm's hand, or what it holds, off what it touches,
+// so that a plan can start free: a held object is lifted along the vertical (off the surface
+// it rests on), a bare hand withdraws against its approach axis. Computed by IK of the arm
+// alone from where it is; followed slowly, allowed to touch only what it touched.
+struct Escape {
+  std::vector<std::string> chains;
+  core::TimedMotion motion;
+  core::ExecutionOptions options;
+  std::vector<std::string> touched;
+};
+// The escape for the arm on `side` if its hand or held object touches something (anything
+// but the hand itself), or always with `always`; nullopt when nothing is touched or the arm
+// cannot move that way. `distance_m`: how far.
+std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
+                                    double distance_m, bool always = false);
+
 // Plans a motion (emitting planning_started and planning_ended with the plan) and follows it
-// one control period per step() call.
+// one control period per step() call. When an arm among the planned chains starts against
+// something (its hand around what it let go of, what it holds on the surface it rests on), the
+// stage first follows that arm's escape motion, then plans from there.
 class MotionStage {
  public:
   // Each returns "" when following has started, else the failure reason "<status>: <why>".
   std::string plan_to_configuration(core::ProgramContext& ctx,
                                     const std::vector<std::string>& chains,
                                     const std::vector<double>& goal);
-  std::string plan_to_poses(core::ProgramContext& ctx, const std::vector<std::string>& chains,
-                            const std::string& frame, const std::vector<core::Pose>& poses,
-                            const core::IkOptions& ik);
+  // The same without the escape: plans from where the chains are now.
+  std::string plan_now(core::ProgramContext& ctx, const std::vector<std::string>& chains,
+                       const std::vector<double>& goal);
   // Follows without planning.
   void follow(core::ProgramContext& ctx, const std::vector<std::string>& chains,
               core::TimedMotion motion, const core::ExecutionOptions& options = {});
   // nullopt while moving; "" once completed; else the failure reason.
   std::optional<std::string> step();
   const core::PlanResult* last_plan() const { return plan_.get(); }
-  // How planned motions are followed (tolerance at the end, settling time).
+  // How planned motions are followed (tolerance at the end, settling time, what they may touch;
+  // the plans' start may touch that too).
   core::ExecutionOptions execution;
 
  private:
@@ -90,31 +110,61 @@ class MotionStage {
                               std::shared_ptr<const core::PlanResult> plan);
   std::shared_ptr<const core::PlanResult> plan_;
   std::optional<core::TrajectoryFollower> follower_;
+  // A plan waiting for an escape motion to end.
+  core::ProgramContext* pending_ctx_ = nullptr;
+  std::vector<std::string> pending_chains_;
+  std::vector<double> pending_goal_;
 };
 
-// Moves `frame` of an arm to one of `poses` with as little of the body as will do: the arm;
-// when IK finds no solution, torso and arm (if `torso`); then (if `base`) the robot steps:
-// IK over base, torso and arm gives a base pose from which the arm reaches, the base alone is
-// planned there and driven (locomotion through the planar base joints), and torso and arm are
-// planned from the new stance.
+// A target for an arm's frame: a pose, and a world axis through it about which the task lets
+// the frame turn (an upright cup held anywhere round, a tool held at any heading) and how far.
+struct ArmTarget {
+  core::Pose pose;
+  Eigen::Vector3d free_axis = Eigen::Vector3d::Zero();  // world; zero: the full pose
+  double free_turn_rad = 0;                             // M_PI or more: any turn
+  std::string tag;                                      // what the target is, for messages
+};
+
+// Moves `frame` of an arm to one of `targets` (tried in order) with as little of the body as
+// will do: the arm; when IK finds no solution for any target, torso and arm (if `torso`); then
+// (if `base`) the robot steps: IK over base, torso and arm gives a stance from which the arm
+// reaches, the base alone is planned there and driven (locomotion through the planar base
+// joints), and torso and arm are planned from the new stance. The frame may be a held
+// object's (a tool's tip): every stage moves the hand holding it. An arm that starts against
+// something escapes first (escape_motion).
 class ArmMotion {
  public:
   // "" when moving, else the failure reason.
   std::string start(core::ProgramContext& ctx, const std::string& arm, const std::string& frame,
-                    std::vector<core::Pose> poses, const core::IkOptions& ik, bool torso,
+                    std::vector<ArmTarget> targets, const core::IkOptions& ik, bool torso,
                     bool base);
   // As MotionStage::step.
   std::optional<std::string> step(core::ProgramContext& ctx);
   MotionStage& stage() { return motion_; }
+  // The target being moved to (after start succeeded); -1 if none.
+  int target_index() const { return reached_; }
 
  private:
+  enum class Phase { kEscaping, kStepping, kReaching };
   std::string reach_from_here(core::ProgramContext& ctx);
+  std::string step_over(core::ProgramContext& ctx, const std::string& failure);
+  // IK of `chains` for target k, keeping solutions within its free turn.
+  std::vector<std::vector<double>> solve(core::ProgramContext& ctx,
+                                         const std::vector<std::string>& chains, size_t k,
+                                         std::string& why);
   MotionStage motion_;
   std::string arm_, frame_;
-  std::vector<core::Pose> poses_;
+  std::vector<ArmTarget> targets_;
   core::IkOptions ik_;
-  bool torso_ = false;
-  bool stepping_ = false;  // the base is moving; the arm follows
+  bool torso_ = false, base_ = false;
+  Phase phase_ = Phase::kReaching;
+  int reached_ = -1;
+  // While stepping: the target the stance is for, and the rest of the body's values there.
+  int stance_target_ = -1;
+  std::vector<double> stance_rest_;
+  // The best IK miss over the targets, for the failure message.
+  double best_miss_m_ = INFINITY, best_miss_rad_ = 0;
+  std::string best_miss_tag_;
 };
 
 // The chains an arm program claims: the arm, and the torso and base when allowed and free.

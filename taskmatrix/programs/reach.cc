@@ -1,14 +1,15 @@
 // reach: moves an arm so that its hand can grasp an object (paper: "reach"). The target hand
-// configurations are palm poses around the object's grasp point: the hand comes in along its
-// approach axis, horizontally from several directions around the robot-object line (closing
-// axis horizontal, then vertical) and from above, at two stand-off distances. Each is tried
-// in turn (IK, then planning) and the first plan found is executed. When the arm alone
-// cannot reach any of them (IK fails) and the torso is free, the torso and arm are planned
-// together (a tall robot bends over a table); failing that, base, torso and arm (the robot
-// steps over). Exits at once when the object is already
-// graspable by that hand.
+// configurations come from the object's geometry (grasp_candidates.h): grasps around a tool's
+// grip, from above and from the side, ranked for this hand; those a grasp of this object by
+// this hand already failed with (ProgramContext::notes) are left out. Each is tried in turn
+// (IK, then planning), at two clearances of the palm, with the arm, then torso and arm, then by
+// stepping (ArmMotion); the first plan found is executed and its candidate noted for grasp. The
+// hand may turn about the candidate's free axis (round objects, handles) as far as the grasp
+// allows, whatever the arm. Exits at once when the object is already graspable by that hand.
+#include <algorithm>
 #include <cmath>
 
+#include "taskmatrix/programs/grasp_candidates.h"
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
 
@@ -16,18 +17,9 @@ namespace taskmatrix::programs {
 
 namespace {
 
-Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
-
-// The palm orientation that points `approach` (palm frame) along `direction` (world) and
-// `closing` (palm frame) along `closing_world` (world, perpendicular to `direction`).
-Eigen::Quaterniond palm_orientation(const Eigen::Vector3d& approach, const Eigen::Vector3d& closing,
-                                    const Eigen::Vector3d& direction,
-                                    const Eigen::Vector3d& closing_world) {
-  Eigen::Matrix3d palm, world;
-  palm << approach, closing, approach.cross(closing);
-  world << direction, closing_world, direction.cross(closing_world);
-  return Eigen::Quaterniond(world * palm.transpose()).normalized();
-}
+// Clearances of the palm from the object's near side, along the approach: close, then with
+// more room.
+constexpr double kClearances[] = {0.01, 0.025};
 
 class Reach final : public core::TaskProgram {
  public:
@@ -35,7 +27,10 @@ class Reach final : public core::TaskProgram {
       : object_(p.text("object")),
         side_(p.text("side")),
         use_torso_(p.flag("torso")),
-        use_base_(p.flag("base")) {}
+        use_base_(p.flag("base")),
+        max_failures_(static_cast<int>(p.integer("attempts"))) {
+    if (max_failures_ < 1) throw std::invalid_argument("parameter 'attempts': must be at least 1");
+  }
 
   std::vector<std::string> chains(const core::Skillset&) const override {
     return {arm_of(side_ == "any" ? "left" : side_)};
@@ -53,26 +48,53 @@ class Reach final : public core::TaskProgram {
       failure_ = "perception_miss: '" + object_ + "' is not in the perceptual model";
       return;
     }
-    if (core::graspable(object_, side_)->holds(ctx.world())) {
+    const std::vector<std::string>& failed = ctx.notes(failed_grasps_note(object_, side_));
+    if (static_cast<int>(failed.size()) >= max_failures_) {
+      failure_ = "grasp_failed: " + std::to_string(failed.size()) + " grasps of '" + object_ +
+                 "' with the " + side_ + " hand did not hold (" + join(failed) + ")";
+      return;
+    }
+    // Already graspable: done, unless the grasp there is one that did not hold.
+    const std::vector<std::string>& reached = ctx.notes(reached_grasp_note(object_, side_));
+    const bool failed_here = !reached.empty() && std::find(failed.begin(), failed.end(),
+                                                           reached.front()) != failed.end();
+    if (!failed_here && core::graspable(object_, side_)->holds(ctx.world())) {
       done_ = true;
       return;
     }
     core::Skillset& skills = ctx.skills();
     const core::HandSpec* hand = skills.profile().find_hand(side_);
-    const std::vector<core::Pose> poses = candidate_poses(skills, *hand, *o);
+    const HandGeometry geometry = measure_hand(skills, *hand);
+    std::vector<GraspCandidate> all =
+        grasp_candidates(*o, geometry, skills.frame_pose(hand->palm).position);
+    if (all.empty()) {
+      failure_ = "not_graspable: the " + side_ + " hand (aperture " +
+                 std::to_string(static_cast<int>(std::lround(geometry.aperture_m * 1000))) +
+                 " mm) spans no grasp of '" + object_ + "'";
+      return;
+    }
+    for (const GraspCandidate& c : all) {
+      if (std::find(failed.begin(), failed.end(), c.id) == failed.end()) candidates_.push_back(c);
+    }
+    if (candidates_.empty()) {
+      failure_ = "grasp_failed: " + std::to_string(failed.size()) + " grasps of '" + object_ +
+                 "' with the " + side_ + " hand did not hold (" + join(failed) + ")";
+      return;
+    }
+    std::vector<ArmTarget> targets;
+    for (const GraspCandidate& c : candidates_) {
+      for (double clearance : kClearances) {
+        const GraspCandidate::Placement at = c.place(geometry, clearance);
+        targets.push_back({at.pose, c.free_axis, at.free_turn_rad, c.id});
+      }
+    }
     core::IkOptions ik;
     ik.restarts = 8;
-    // An arm with fewer than six joints cannot reach every hand pose: leave the hand's turn
-    // about its palm normal free (the approach direction may swing in the palm's plane).
-    if (skills.chain(arm_of(side_)).joints.size() < 6) {
-      ik.free_axis = vec(hand->approach).cross(vec(hand->closing));
-    }
-    // Settle close to the planned hand pose: the graspable test allows 3 cm and the second
-    // stand-off uses 2.8 cm of it.
+    // Settle close to the planned hand pose: the graspable test allows 3 cm.
     arm_motion_.stage().execution.position_tolerance = 0.003;
     // The fingers may brush the object on the last centimetres; anything else stops the arm.
     arm_motion_.stage().execution.may_touch = {object_};
-    failure_ = arm_motion_.start(ctx, arm_of(side_), hand->palm, poses, ik, torso_, base_);
+    failure_ = arm_motion_.start(ctx, arm_of(side_), hand->palm, targets, ik, torso_, base_);
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
@@ -81,6 +103,11 @@ class Reach final : public core::TaskProgram {
     const std::optional<std::string> result = arm_motion_.step(ctx);
     if (!result) return core::ProgramState::kRunning;
     if (!result->empty()) return fail(*result);
+    const int k = arm_motion_.target_index();
+    if (k >= 0) {
+      ctx.notes(reached_grasp_note(object_, side_)) = {
+          candidates_[static_cast<size_t>(k) / std::size(kClearances)].id};
+    }
     if (!core::graspable(object_, side_)->holds(ctx.world())) {
       return fail("not_graspable: the " + side_ + " palm reached its target but '" + object_ +
                   "' is not graspable from there (did it move?)");
@@ -89,50 +116,16 @@ class Reach final : public core::TaskProgram {
   }
 
  private:
-  std::vector<core::Pose> candidate_poses(core::Skillset& skills, const core::HandSpec& hand,
-                                          const core::PerceivedObject& o) const {
-    const Eigen::Vector3d target = o.grasp_point();
-    const Eigen::Vector3d approach = vec(hand.approach), closing = vec(hand.closing);
-    // Horizontal direction from the arm's shoulder side of the robot towards the object.
-    const Eigen::Vector3d palm_now = skills.frame_pose(hand.palm).position;
-    Eigen::Vector3d toward = target - palm_now;
-    toward.z() = 0;
-    if (toward.norm() < 1e-6) toward = Eigen::Vector3d::UnitX();
-    toward.normalize();
-    const double base_yaw = std::atan2(toward.y(), toward.x());
-    const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-    std::vector<core::Pose> poses;
-    auto add = [&](const Eigen::Vector3d& direction, const Eigen::Vector3d& closing_world,
-                   double standoff) {
-      core::Pose p;
-      p.position = target - standoff * direction;
-      p.orientation = palm_orientation(approach, closing, direction, closing_world);
-      poses.push_back(p);
-    };
-    const double yaws[] = {0.0, -0.5, 0.5, -1.0, 1.0};
-    for (double standoff : {0.015, 0.028}) {
-      // From the side, fingers closing horizontally (both ways round).
-      for (double dyaw : yaws) {
-        const Eigen::Vector3d d(std::cos(base_yaw + dyaw), std::sin(base_yaw + dyaw), 0);
-        const Eigen::Vector3d across = up.cross(d);
-        add(d, across, standoff);
-        add(d, -across, standoff);
-      }
-      // From above, closing across and along the robot-object line.
-      add(-up, up.cross(toward), standoff);
-      add(-up, toward, standoff);
-      // From the side, fingers closing vertically.
-      for (double dyaw : {0.0, -0.5, 0.5}) {
-        const Eigen::Vector3d d(std::cos(base_yaw + dyaw), std::sin(base_yaw + dyaw), 0);
-        add(d, up, standoff);
-        add(d, -up, standoff);
-      }
-    }
-    return poses;
+  static std::string join(const std::vector<std::string>& items) {
+    std::string out;
+    for (const std::string& i : items) out += (out.empty() ? "" : ", ") + i;
+    return out;
   }
 
   std::string object_, side_;
   bool use_torso_ = true, torso_ = false, use_base_ = true, base_ = false;
+  int max_failures_ = 3;
+  std::vector<GraspCandidate> candidates_;
   ArmMotion arm_motion_;
   std::string failure_;
   bool done_ = false;
@@ -157,7 +150,13 @@ core::ProgramType reach_program() {
             false,
             true,
             {},
-            "step the base too when arm and torso cannot reach (if the base is free)"}},
+            "step the base too when arm and torso cannot reach (if the base is free)"},
+           {"attempts",
+            core::ParamType::kInteger,
+            false,
+            std::int64_t{3},
+            {},
+            "fail once this many grasps of the object by this hand did not hold"}},
           [](const core::Params& p) { return std::make_unique<Reach>(p); }};
 }
 

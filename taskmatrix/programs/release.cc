@@ -1,6 +1,7 @@
 // release: opens a hand to the profile's rest posture (paper: "release"), first letting go of
-// what it holds. With side "any" it opens the hand holding `object` (or every hand holding
-// something, or both hands if none does).
+// what it holds. With side "any" it opens the hand holding `object`; else, given `near`, the
+// free hand nearest that object (a hand whose grasp did not hold); else every hand holding
+// something, or both hands if none does.
 #include <algorithm>
 
 #include "taskmatrix/programs/primitives.h"
@@ -12,7 +13,8 @@ namespace {
 
 class Release final : public core::TaskProgram {
  public:
-  explicit Release(const core::Params& p) : object_(p.text("object")), side_(p.text("side")) {}
+  explicit Release(const core::Params& p)
+      : object_(p.text("object")), near_(p.text("near")), side_(p.text("side")) {}
 
   std::vector<std::string> chains(const core::Skillset&) const override {
     std::vector<std::string> out;
@@ -25,6 +27,8 @@ class Release final : public core::TaskProgram {
       sides_ = {side_};
     } else if (!object_.empty() && !ctx.skills.holder_of(object_).empty()) {
       sides_ = {ctx.skills.holder_of(object_)};
+    } else if (!near_.empty()) {
+      sides_ = {nearest_free_side(ctx, near_, hand_of)};
     } else {
       for (const std::string& o : ctx.skills.attached_objects()) {
         const std::string s = ctx.skills.holder_of(o);
@@ -63,7 +67,7 @@ class Release final : public core::TaskProgram {
   }
 
  private:
-  std::string object_, side_;
+  std::string object_, near_, side_;
   std::vector<std::string> sides_ = {"left"};
   MotionStage motion_;
 };
@@ -80,7 +84,13 @@ core::ProgramType release_program() {
             false,
             std::string(),
             {},
-            "if given, the hand must be holding it (precondition grasping(object))"}},
+            "if given, the hand must be holding it (precondition grasping(object))"},
+           {"near",
+            core::ParamType::kString,
+            false,
+            std::string(),
+            {},
+            "with side any and no `object`: open the free hand nearest this object"}},
           [](const core::Params& p) { return std::make_unique<Release>(p); }};
 }
 

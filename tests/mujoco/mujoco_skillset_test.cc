@@ -465,9 +465,11 @@ TEST_P(SkillsetOnBothRobots, AHeldObjectMovesWithTheHandAndIsCheckedAsPartOfTheR
 }
 
 // Minimum contact distance MuJoCo's full pipeline reports over pairs with a moved body, with
-// every geom margin set to `margin` (INFINITY if none).
-double raw_min_contact_distance(const mjModel* m, const std::vector<char>& moved,
+// every geom margin set to `margin` (INFINITY if none). Contacts within one hand (a finger on
+// a finger) are the hand's own and do not count.
+double raw_min_contact_distance(const Scene& scene, const std::vector<char>& moved,
                                 const std::vector<double>& qpos, double margin) {
+  const mjModel* m = scene.model();
   ModelPtr wide = copy_model(m);
   for (int g = 0; g < wide->ngeom; ++g) wide->geom_margin[g] = margin;
   wide->nconmax = 20000;
@@ -477,8 +479,10 @@ double raw_min_contact_distance(const mjModel* m, const std::vector<char>& moved
   mj_collision(wide.get(), d.get());
   double dist = INFINITY;
   for (int c = 0; c < d->ncon; ++c) {
-    if (moved[m->geom_bodyid[d->contact[c].geom1]] || moved[m->geom_bodyid[d->contact[c].geom2]])
+    const int b1 = m->geom_bodyid[d->contact[c].geom1], b2 = m->geom_bodyid[d->contact[c].geom2];
+    if ((moved[b1] || moved[b2]) && !scene.same_hand(b1, b2)) {
       dist = std::min(dist, d->contact[c].dist);
+    }
   }
   return dist;
 }
@@ -511,12 +515,16 @@ TEST_P(SkillsetOnBothRobots, ClearanceAgreesWithMujocoContactsAndIsNegativeInCol
     for (size_t i = 0; i < joints.size(); ++i) qpos[m->jnt_qposadr[joints[i]]] = q[i];
     if (clearance < 0) {
       // Penetration: MuJoCo's own deepest contact.
-      EXPECT_NEAR(clearance, raw_min_contact_distance(m, moved, qpos, 0.0), 1e-9) << k;
+      EXPECT_NEAR(clearance, raw_min_contact_distance(skills_->scene(), moved, qpos, 0.0), 1e-9)
+          << k;
       ++negative;
     } else if (clearance < cap) {
       // Apart: MuJoCo finds a contact with margins just above the clearance, none just below.
-      EXPECT_LT(raw_min_contact_distance(m, moved, qpos, clearance + 1e-4), INFINITY) << k;
-      EXPECT_EQ(raw_min_contact_distance(m, moved, qpos, std::max(0.0, clearance - 1e-4)), INFINITY)
+      EXPECT_LT(raw_min_contact_distance(skills_->scene(), moved, qpos, clearance + 1e-4), INFINITY)
+          << k;
+      EXPECT_EQ(
+          raw_min_contact_distance(skills_->scene(), moved, qpos, std::max(0.0, clearance - 1e-4)),
+          INFINITY)
           << k;
       ++positive;
     }

@@ -1,0 +1,303 @@
+#include "taskmatrix/programs/grasp_candidates.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace taskmatrix::programs {
+
+namespace {
+
+Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+
+// A fit above this share of the aperture is tight: the fingers barely pass the object.
+constexpr double kLooseFit = 0.85;
+// Widths vary by less than this around a round object.
+constexpr double kRoundTolerance = 0.003;
+// How far the hand may turn about a free axis and still fit: the width must stay under
+// this share of the aperture, turning at most kMaxTurn.
+constexpr double kTurnFit = 0.9;
+constexpr double kMaxTurn = 0.35;
+
+Eigen::Vector3d horizontal(Eigen::Vector3d v) {
+  v.z() = 0;
+  return v.norm() < 1e-9 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(v.normalized());
+}
+
+Eigen::Vector3d yawed(const Eigen::Vector3d& v, double angle) {
+  return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()) * v;
+}
+
+// The object's geometry: its shapes, or its box when perception gives no shapes.
+class Geometry {
+ public:
+  explicit Geometry(const core::PerceivedObject& o) : shapes_(o.shapes) {
+    if (shapes_.empty()) {
+      core::Shape box;
+      box.type = core::Shape::Type::kBox;
+      box.pose.position = o.box.center();
+      box.size = o.box.sizes() / 2;
+      shapes_.push_back(box);
+    }
+  }
+  const std::vector<core::Shape>& shapes() const { return shapes_; }
+  // The interval the object covers along unit direction `u` (as u . x).
+  std::pair<double, double> extent(const Eigen::Vector3d& u) const { return extent_of(shapes_, u); }
+  static std::pair<double, double> extent_of(const std::vector<core::Shape>& shapes,
+                                             const Eigen::Vector3d& u) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const core::Shape& s : shapes) {
+      const double c = s.pose.position.dot(u), h = s.half_width(u);
+      lo = std::min(lo, c - h);
+      hi = std::max(hi, c + h);
+    }
+    return {lo, hi};
+  }
+  double width(const Eigen::Vector3d& u) const {
+    const auto [lo, hi] = extent(u);
+    return hi - lo;
+  }
+  Eigen::Vector3d centre() const {
+    Eigen::Vector3d c;
+    for (int i = 0; i < 3; ++i) {
+      const auto [lo, hi] = extent(Eigen::Vector3d::Unit(i));
+      c[i] = 0.5 * (lo + hi);
+    }
+    return c;
+  }
+  // True when the horizontal widths are the same all round (a cylinder standing up).
+  bool round() const {
+    double lo = INFINITY, hi = 0;
+    for (int k = 0; k < 12; ++k) {
+      const double w = width(yawed(Eigen::Vector3d::UnitX(), k * M_PI / 12));
+      lo = std::min(lo, w);
+      hi = std::max(hi, w);
+    }
+    return hi - lo < kRoundTolerance;
+  }
+
+ private:
+  std::vector<core::Shape> shapes_;
+};
+
+// How far (up to kMaxTurn) `closing` may turn about the vertical with the width across the
+// shapes staying under kTurnFit of the aperture.
+double free_turn(const std::vector<core::Shape>& shapes, const Eigen::Vector3d& closing,
+                 double aperture) {
+  double turn = 0;
+  for (double t = 0.05; t <= kMaxTurn + 1e-9; t += 0.05) {
+    bool fits = true;
+    for (double sign : {-1.0, 1.0}) {
+      const auto [lo, hi] = Geometry::extent_of(shapes, yawed(closing, sign * t));
+      fits = fits && hi - lo <= kTurnFit * aperture;
+    }
+    if (!fits) break;
+    turn = t;
+  }
+  return turn;
+}
+
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+}
+
+// The shape nearest to `point` (distance to its centre, or to the axis segment of a capsule
+// or cylinder).
+const core::Shape& nearest_shape(const std::vector<core::Shape>& shapes,
+                                 const Eigen::Vector3d& point) {
+  const core::Shape* best = &shapes.front();
+  double best_d = INFINITY;
+  for (const core::Shape& s : shapes) {
+    Eigen::Vector3d c = s.pose.position;
+    if (s.type == core::Shape::Type::kCapsule || s.type == core::Shape::Type::kCylinder) {
+      const Eigen::Vector3d axis = s.pose.orientation * Eigen::Vector3d::UnitZ();
+      c += std::clamp((point - c).dot(axis), -s.size.y(), s.size.y()) * axis;
+    }
+    const double d = (point - c).norm();
+    if (d < best_d) best_d = d, best = &s;
+  }
+  return *best;
+}
+
+}  // namespace
+
+HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
+  HandGeometry g;
+  g.side = hand.side;
+  g.approach = vec(hand.approach).normalized();
+  g.closing = vec(hand.closing).normalized();
+  const std::string chain = hand.side + "_hand";
+  // The hand open (or at rest, for a profile without an open posture).
+  std::vector<double> open = skills.configuration({chain});
+  for (const char* name : {"rest", "hand_open"}) {
+    const auto posture = skills.profile().postures.find(name);
+    if (posture != skills.profile().postures.end() && posture->second.count(chain)) {
+      open = posture->second.at(chain);
+    }
+  }
+  const core::Pose palm = skills.frame_pose_at({chain}, open, hand.palm);
+  double lo = INFINITY, hi = -INFINITY, depth = 0;
+  for (const core::FingerSpec& f : hand.fingers) {
+    if (f.bodies.empty()) continue;
+    const Eigen::Vector3d base =
+        palm.orientation.conjugate() *
+        (skills.frame_pose_at({chain}, open, f.bodies.front()).position - palm.position);
+    lo = std::min(lo, base.dot(g.closing));
+    hi = std::max(hi, base.dot(g.closing));
+    depth += -base.dot(g.approach);
+    ++g.fingers;
+  }
+  g.aperture_m = g.fingers >= 2 ? hi - lo : 0;
+  g.palm_depth_m = g.fingers > 0 ? std::max(0.0, depth / g.fingers) : 0;
+  g.fingers_needed = std::min(g.fingers, g.fingers / 2 + 1);
+  return g;
+}
+
+GraspCandidate::Placement GraspCandidate::place(const HandGeometry& hand, double clearance) const {
+  Eigen::Matrix3d palm, world;
+  const Eigen::Vector3d across = approach.cross(closing).normalized();
+  palm << hand.approach, hand.closing, hand.approach.cross(hand.closing);
+  world << approach, closing.normalized(), across;
+  const double back = std::max(0.0, half_depth_m + clearance - hand.palm_depth_m);
+  Placement p;
+  p.pose.position = centre - back * approach;
+  p.pose.orientation = Eigen::Quaterniond(world * palm.transpose()).normalized();
+  // Turning about a parallel axis through the palm frame moves the hand off the grasp by the
+  // frame's distance from the axis times the turn: keep that under a centimetre.
+  const double off_axis = back * approach.cross(free_axis).norm();
+  p.free_turn_rad = off_axis > 1e-6 ? std::min(free_turn_rad, 0.01 / off_axis) : free_turn_rad;
+  return p;
+}
+
+std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object,
+                                             const HandGeometry& hand,
+                                             const Eigen::Vector3d& from) {
+  std::vector<GraspCandidate> out;
+  if (hand.fingers < 1 || hand.aperture_m <= 0) return out;
+  const Geometry geometry(object);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d centre = geometry.centre();
+  Eigen::Vector3d toward = horizontal(centre - from);
+  // The object's own horizontal axes: of its frame's axes, the two least vertical.
+  const Eigen::Matrix3d r = object.pose.orientation.toRotationMatrix();
+  int up_axis = 0;
+  for (int i = 1; i < 3; ++i) {
+    if (std::abs(r(2, i)) > std::abs(r(2, up_axis))) up_axis = i;
+  }
+  Eigen::Vector3d ex = horizontal(r.col((up_axis + 1) % 3));
+  if (ex.isZero()) ex = horizontal(r.col((up_axis + 2) % 3));
+  if (ex.isZero()) ex = Eigen::Vector3d::UnitX();
+  if (toward.isZero()) toward = ex;
+  const Eigen::Vector3d ey = up.cross(ex);
+  const bool round = geometry.round();
+  const double top = geometry.extent(up).second;
+  std::map<std::string, int> counts;
+  auto add = [&](const std::string& family, Eigen::Vector3d at, const Eigen::Vector3d& approach,
+                 const Eigen::Vector3d& closing, double width, double half_depth,
+                 const Eigen::Vector3d& free_axis, double turn, double cost) {
+    if (width > hand.aperture_m) return;  // the fingers cannot pass around it
+    GraspCandidate c;
+    c.family = family;
+    c.id = family + "." + std::to_string(counts[family]++);
+    c.centre = at;
+    c.approach = approach.normalized();
+    c.closing = closing.normalized();
+    c.width_m = width;
+    c.half_depth_m = half_depth;
+    if (turn > 0) {
+      c.free_axis = free_axis.normalized();
+      c.free_turn_rad = turn;
+    }
+    c.score = cost + (width > kLooseFit * hand.aperture_m ? 10.0 : 0.0);
+    out.push_back(c);
+  };
+
+  // A tool: the fingers wrap its handle, across the handle's axis, from above first.
+  const auto grip = object.frames.find("grip");
+  if (grip != object.frames.end()) {
+    const Eigen::Vector3d g = grip->second.position;
+    const core::Shape& handle = nearest_shape(geometry.shapes(), g);
+    Eigen::Vector3d axis =
+        handle.type == core::Shape::Type::kCapsule || handle.type == core::Shape::Type::kCylinder
+            ? handle.pose.orientation * Eigen::Vector3d::UnitZ()
+            : grip->second.orientation * Eigen::Vector3d::UnitX();
+    axis.normalize();
+    Eigen::Vector3d down = -up - (-up).dot(axis) * axis;
+    if (down.norm() < 1e-6) down = toward - toward.dot(axis) * axis;
+    down.normalize();
+    const Eigen::Vector3d aside =
+        axis.cross(down).dot(toward) >= 0 ? axis.cross(down) : down.cross(axis);
+    for (double phi : {0.0, 0.5, -0.5, 1.0, -1.0, M_PI / 2, -M_PI / 2}) {
+      const Eigen::Vector3d a = std::cos(phi) * down + std::sin(phi) * aside;
+      const Eigen::Vector3d closing = a.cross(axis).normalized();
+      const double width = 2 * handle.half_width(closing);
+      for (double sign : {1.0, -1.0}) {
+        // The hand may turn all round the handle (IK keeps it off the rest of the tool).
+        add("grip", g, a, sign * closing, width, handle.half_width(a), axis, M_PI,
+            0.1 * std::abs(phi));
+      }
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const auto& a, const auto& b) { return a.score < b.score; });
+    return out;
+  }
+
+  // From above: the palm stays over the top; the fingers close along the object's axes.
+  {
+    std::vector<Eigen::Vector3d> closings;
+    if (round) {
+      for (double yaw : {M_PI / 2, 0.0, M_PI / 4, -M_PI / 4})
+        closings.push_back(yawed(toward, yaw));
+    } else {
+      closings = {ey, ex};
+    }
+    for (const Eigen::Vector3d& closing : closings) {
+      for (double sign : {1.0, -1.0}) {
+        const double turn =
+            round ? M_PI / 8 : free_turn(geometry.shapes(), closing, hand.aperture_m);
+        add("top", centre, -up, sign * closing, geometry.width(closing), top - centre.z(), up, turn,
+            0.3);
+      }
+    }
+  }
+
+  // From the side, towards the faces (or all round), closing horizontally then vertically.
+  std::vector<Eigen::Vector3d> approaches;
+  if (round) {
+    for (double yaw :
+         {0.0, M_PI / 4, -M_PI / 4, M_PI / 2, -M_PI / 2, 3 * M_PI / 4, -3 * M_PI / 4, M_PI}) {
+      approaches.push_back(yawed(toward, yaw));
+    }
+  } else {
+    approaches = {ex, -ex, ey, -ey};
+    std::stable_sort(approaches.begin(), approaches.end(),
+                     [&](const auto& a, const auto& b) { return a.dot(toward) > b.dot(toward); });
+  }
+  for (int vertical = 0; vertical < 2; ++vertical) {
+    for (const Eigen::Vector3d& a : approaches) {
+      const Eigen::Vector3d closing = vertical ? up : Eigen::Vector3d(up.cross(a).normalized());
+      const double turn = vertical ? 0.0
+                          : round  ? M_PI / 8
+                                   : free_turn(geometry.shapes(), closing, hand.aperture_m);
+      const double cost = angle_between(a, toward) / M_PI + (vertical ? 0.6 : 0.0);
+      for (double sign : {1.0, -1.0}) {
+        add("side", centre, a, sign * closing, geometry.width(closing), geometry.width(a) / 2, up,
+            turn, cost);
+      }
+    }
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const auto& a, const auto& b) { return a.score < b.score; });
+  return out;
+}
+
+std::string reached_grasp_note(const std::string& object, const std::string& side) {
+  return "grasp." + object + "." + side + ".reached";
+}
+
+std::string failed_grasps_note(const std::string& object, const std::string& side) {
+  return "grasp." + object + "." + side + ".failed";
+}
+
+}  // namespace taskmatrix::programs

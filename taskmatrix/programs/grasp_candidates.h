@@ -1,0 +1,85 @@
+// Grasps of an object, generated from its geometry and ranked for one hand. Robot-independent:
+// the hand is measured through the skillset (forward kinematics of the profile's palm frame and
+// finger bodies), the object comes from the perceptual model (its collision shapes, a tool's
+// grip frame).
+//
+// Candidates, each a palm frame placement with the hand's approach and closing axes in the
+// world:
+//   grip  a tool's grip frame: the fingers wrap the handle (the shape at the grip point),
+//         approaching across the handle's axis, from above first;
+//   top   from above, closing along the object's horizontal axes (or several directions
+//         for an object that is round about the vertical); the palm stays above the top;
+//   side  horizontally, towards the object's faces (or from several directions around a round
+//         object), closing horizontally across it, then closing vertically.
+// Each has the object's width along its closing axis. A candidate the hand cannot span (width
+// over the aperture of its fingers) is left out; the rest are ranked: those that fit loosely
+// before tight ones, then by how directly the hand comes in from where it is (a side approach
+// pointing away from the robot is the easiest), top grasps between the direct and the oblique
+// side approaches, vertical closings last. Ids name the family and index and stay the same
+// while the object and the robot's side of it do, so a grasp that failed can be left out of the
+// next attempt.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "taskmatrix/core/perceptual_model.h"
+#include "taskmatrix/core/skillset.h"
+
+namespace taskmatrix::programs {
+
+// What a hand can hold, measured at its `hand_open` posture (or `rest`).
+struct HandGeometry {
+  std::string side;
+  Eigen::Vector3d approach = Eigen::Vector3d::UnitZ();  // palm frame, from the profile
+  Eigen::Vector3d closing = Eigen::Vector3d::UnitX();   // palm frame, from the profile
+  // Spread of the fingers' first joints along the closing axis: the widest object the
+  // fingers can close around.
+  double aperture_m = 0;
+  // How far behind the palm frame (against the approach axis) the fingers' first joints sit:
+  // about where the palm is.
+  double palm_depth_m = 0;
+  int fingers = 0;
+  // Fingers that must touch an object for the hand to hold it: a majority of its fingers.
+  int fingers_needed = 0;
+};
+HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand);
+
+struct GraspCandidate {
+  std::string id;      // family and index, e.g. "top.2"
+  std::string family;  // "grip", "top" or "side"
+  // World: the centre of the grasped section (on the object's axis, the handle's axis), the
+  // direction the hand moves in along its approach axis, and the direction its fingers close
+  // along.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d approach = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d closing = Eigen::Vector3d::UnitY();
+  double width_m = 0;       // the object's extent along `closing`
+  double half_depth_m = 0;  // and against `approach`, from `centre` to its near side
+  // A world axis through `centre` about which the hand may turn and still hold the object
+  // (the vertical for an upright object, a handle's axis), and how far; zero: none.
+  Eigen::Vector3d free_axis = Eigen::Vector3d::Zero();
+  double free_turn_rad = 0;
+  double score = 0;  // lower is better
+
+  // Where the palm frame goes for the palm to stay `clearance` metres off the object's near
+  // side (the palm is the hand's palm_depth_m behind its frame), and how far the hand may turn
+  // about `free_axis` there: the turn is about the palm frame, so off the axis it is less.
+  struct Placement {
+    core::Pose pose;
+    double free_turn_rad = 0;
+  };
+  Placement place(const HandGeometry& hand, double clearance) const;
+};
+
+// The candidates for `object` with `hand`, best first. `from`: a point the hand comes from
+// (its palm now).
+std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object,
+                                             const HandGeometry& hand, const Eigen::Vector3d& from);
+
+// Notes (core::ProgramContext::notes) where reach records the candidate it moved to and grasp
+// records the candidates that did not hold.
+std::string reached_grasp_note(const std::string& object, const std::string& side);
+std::string failed_grasps_note(const std::string& object, const std::string& side);
+
+}  // namespace taskmatrix::programs

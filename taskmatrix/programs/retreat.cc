@@ -1,0 +1,133 @@
+// retreat: makes room. With `part: base` the robot steps back from a surface (or object): the
+// base moves `distance` horizontally away from the nearest point of its box, keeping its
+// heading, so that later arm motions (lowering the arms after a wave, a reach) are not made
+// against the furniture. With `part: hand` the arm withdraws its hand `distance` straight back
+// against the hand's approach axis (lifting what it holds straight up instead), as after a
+// grasp that did not hold, before the next one is reached for.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "taskmatrix/programs/primitives.h"
+#include "taskmatrix/programs/program_support.h"
+
+namespace taskmatrix::programs {
+
+namespace {
+
+class Retreat final : public core::TaskProgram {
+ public:
+  explicit Retreat(const core::Params& p)
+      : part_(p.text("part")), from_(p.text("from")), side_(p.text("side")) {
+    distance_ = p.number("distance");
+    if (!(std::isfinite(distance_) && distance_ >= 0 && distance_ <= 2)) {
+      throw std::invalid_argument("parameter 'distance': must be in [0, 2] m");
+    }
+  }
+
+  std::vector<std::string> chains(const core::Skillset&) const override {
+    if (part_ == "base") return {"base"};
+    return {arm_of(side_ == "any" ? "left" : side_)};
+  }
+  std::vector<std::string> claim(const core::ClaimContext& ctx) override {
+    if (part_ == "hand" && side_ == "any") side_ = nearest_free_side(ctx, from_, arm_of);
+    return chains(ctx.skills);
+  }
+
+  void start(core::ProgramContext& ctx) override {
+    if (distance_ <= 0) {
+      done_ = true;
+      return;
+    }
+    if (part_ == "hand") {
+      std::optional<Escape> escape = escape_motion(ctx, side_, distance_, /*always=*/true);
+      if (!escape) {
+        failure_ = "ik_failure: the " + side_ + " arm cannot withdraw its hand " +
+                   std::to_string(distance_).substr(0, 4) + " m";
+        return;
+      }
+      motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
+      return;
+    }
+    core::Skillset& skills = ctx.skills();
+    const std::vector<double> base = skills.configuration({"base"});
+    const Eigen::Vector2d at(base[0], base[1]);
+    const core::PerceivedObject* from = away_from(ctx, at);
+    if (!from) {
+      failure_ = from_.empty() ? "perception_miss: no surface is known"
+                               : "perception_miss: '" + from_ + "' is not in the perceptual model";
+      return;
+    }
+    const Eigen::Vector2d lo = from->box.min().head<2>(), hi = from->box.max().head<2>();
+    const Eigen::Vector2d nearest = at.cwiseMax(lo).cwiseMin(hi);
+    Eigen::Vector2d away = at - nearest;
+    if (away.norm() < 1e-6) away = at - 0.5 * (lo + hi);
+    if (away.norm() < 1e-6) away = Eigen::Vector2d(-std::cos(base[2]), -std::sin(base[2]));
+    away.normalize();
+    std::vector<double> goal = base;
+    goal[0] += distance_ * away.x();
+    goal[1] += distance_ * away.y();
+    const core::ChainInfo& chain = skills.chain("base");
+    for (size_t i = 0; i < goal.size(); ++i)
+      goal[i] = std::clamp(goal[i], chain.lower[i], chain.upper[i]);
+    motion_.execution.may_touch = {from->id};
+    failure_ = motion_.plan_to_configuration(ctx, {"base"}, goal);
+  }
+
+  core::ProgramState step(core::ProgramContext&) override {
+    if (!failure_.empty()) return fail(failure_);
+    if (done_) return core::ProgramState::kCompleted;
+    const std::optional<std::string> result = motion_.step();
+    if (!result) return core::ProgramState::kRunning;
+    if (!result->empty()) return fail(*result);
+    return core::ProgramState::kCompleted;
+  }
+
+ private:
+  // `from`, or the surface nearest to the base.
+  const core::PerceivedObject* away_from(core::ProgramContext& ctx, const Eigen::Vector2d& at) {
+    if (!from_.empty()) return ctx.percepts().find(from_);
+    const core::PerceivedObject* best = nullptr;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (const core::PerceivedObject* s : ctx.percepts().of_type("surface")) {
+      const Eigen::Vector2d nearest =
+          at.cwiseMax(s->box.min().head<2>()).cwiseMin(s->box.max().head<2>());
+      const double d = (at - nearest).norm();
+      if (d < best_d) best_d = d, best = s;
+    }
+    return best;
+  }
+
+  std::string part_, from_, side_;
+  double distance_ = 0.2;
+  MotionStage motion_;
+  std::string failure_;
+  bool done_ = false;
+};
+
+}  // namespace
+
+core::ProgramType retreat_program() {
+  using core::ParamType;
+  return {"retreat",
+          "steps the base back from a surface, or withdraws a hand straight back, to make room",
+          {{"part",
+            ParamType::kString,
+            false,
+            std::string("base"),
+            {"base", "hand"},
+            "base: step away from `from`; hand: withdraw the hand against its approach axis"},
+           {"from",
+            ParamType::kString,
+            false,
+            std::string(),
+            {},
+            "the surface or object to step away from (base; default: the nearest surface), or "
+            "near which to choose the hand (hand, side any)"},
+           {"distance", ParamType::kNumber, false, 0.2, {}, "how far, m"},
+           {"side", ParamType::kString, false, std::string("any"), kSides,
+            "hand: which; any: the free hand nearest `from`"}},
+          [](const core::Params& p) { return std::make_unique<Retreat>(p); }};
+}
+
+}  // namespace taskmatrix::programs
