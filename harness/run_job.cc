@@ -11,6 +11,7 @@
 #include <ostream>
 #include <set>
 
+#include "harness/layout_json.h"
 #include "harness/ompl_log.h"
 #include "harness/planner_comparison.h"
 #include "harness/provenance.h"
@@ -61,6 +62,7 @@ struct Prepared {
   RunPlan plan;
   std::vector<TrialSpec> matrix;
   SceneMap scenes;
+  std::map<std::string, core::TrialLayout> layouts;  // by trial id
 };
 
 // Loads the plan and every scene it needs, and draws every trial's layout once, so that a
@@ -76,19 +78,17 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
   apply_overrides(p.plan, overrides);
   p.matrix =
       only.empty() ? trial_matrix(p.plan) : std::vector<TrialSpec>{parse_trial_id(p.plan, only)};
+  std::map<std::pair<std::string, std::string>, std::unique_ptr<mujoco::WorkerScene>> workers;
   for (const TrialSpec& t : p.matrix) {
     auto& scene = p.scenes[{t.robot, t.environment}];
     if (!scene) {
       scene =
           mujoco::Scene::load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
     }
+    auto& worker = workers[{t.robot, t.environment}];
+    if (!worker) worker = std::make_unique<mujoco::WorkerScene>(scene);
     const Scenario& s = p.plan.scenarios[static_cast<size_t>(t.scenario)];
-    try {
-      scene->make_layout(s.obstacles, t.layout_seed);
-    } catch (const core::InputError& e) {
-      throw core::InputError(s.file.string(), "obstacles",
-                             "cannot lay out trial " + t.id + ": " + e.what());
-    }
+    p.layouts[t.id] = draw_trial_layout(s, *worker, t.layout_seed, t.id);
   }
   return p;
 }
@@ -254,13 +254,15 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     TrialOptions topt;
     topt.planner = &s.planners[static_cast<size_t>(t.planner)];
     topt.record_rate_hz = keep_trajectories ? options.record_rate_hz : 0;
+    topt.layout = &p.layouts.at(t.id);
     const TrialResult r = run_trial(s, scene, t.layout_seed, t.seed, registry, nullptr, topt);
     nlohmann::json j = trial_json(plan, t, r);
     if (keep_trajectories) {
       TrajectoryFile file;
       file.robot = t.robot;
       file.environment = t.environment;
-      file.layout = scene->make_layout(s.obstacles, t.layout_seed);
+      file.layout = r.layout.obstacles;
+      file.variation = r.layout.variation;
       file.recording = r.recording;
       file.removed_bodies = r.removed_debris;
       const std::string rel = "trajectories/" + t.id + ".traj.gz";
@@ -285,6 +287,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
       }
     } else {
       j = failed_trial_json(plan, t, o.status, o.reason);
+      j["layout"] = layout_json(p.layouts.at(t.id));
     }
     j["wall_time_s"] = o.wall_s;
     j["peak_memory_mb"] = o.peak_memory_mb;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "harness/layout_json.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
@@ -52,6 +53,7 @@ void write_trajectory_file(const std::filesystem::path& file, const TrajectoryFi
                          {"footprint_radius", o.footprint_radius}});
   }
   header["obstacles"] = obstacles;
+  if (!t.variation.empty()) header["variation"] = variation_json(t.variation);
   header["nq"] = r.nq;
   header["frame_period_s"] = r.frame_period_s;
   header["frames"] = r.frames();
@@ -127,6 +129,7 @@ TrajectoryFile read_trajectory_file(const std::filesystem::path& file) {
       p.footprint_radius = o.at("footprint_radius").get<double>();
       t.layout.obstacles.push_back(p);
     }
+    if (const auto v = h.find("variation"); v != h.end()) t.variation = variation_from_json(*v);
     t.recording.nq = h.at("nq").get<int>();
     t.recording.frame_period_s = h.at("frame_period_s").get<double>();
     t.recording.times = h.at("times").get<std::vector<double>>();

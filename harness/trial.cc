@@ -1,8 +1,10 @@
 #include "harness/trial.h"
 
 #include <chrono>
+#include <cstdio>
 
 #include "taskmatrix/core/conditions.h"
+#include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 
@@ -36,13 +38,68 @@ std::string run_program(core::Executive& executive, const ProgramCall& call, dou
 
 }  // namespace
 
+core::TrialLayout draw_trial_layout(const Scenario& scenario, mujoco::WorkerScene& worker,
+                                    std::uint64_t layout_seed, const std::string& trial_id) {
+  auto fail = [&](const std::string& key, const std::string& why) -> core::InputError {
+    const bool varied = key.rfind("obstacles", 0) != 0;
+    const std::filesystem::path& file = varied ? scenario.variation_file : scenario.file;
+    return core::InputError(file.string(), key, "cannot lay out trial " + trial_id + ": " + why,
+                            line_of(scenario.key_lines, key));
+  };
+  core::TrialLayout layout;
+  try {
+    layout = worker.scene().make_trial_layout(scenario.obstacles, scenario.variation, layout_seed);
+    worker.apply(layout);
+  } catch (const core::LayoutError& e) {
+    throw fail(e.key().empty() ? "obstacles" : e.key(), e.what());
+  } catch (const core::InputError& e) {
+    throw fail("obstacles", e.what());
+  }
+  worker.reset_to_start();
+  const mjModel* m = worker.model();
+  const mjData* d = worker.data();
+  const mujoco::Scene& scene = worker.scene();
+  auto name = [&](int geom) {
+    const char* n = mj_id2name(m, mjOBJ_GEOM, geom);
+    return n ? std::string(n) : "geom " + std::to_string(geom);
+  };
+  auto is_obstacle = [&](int geom) {
+    for (const mujoco::ObstacleSlot& slot : scene.obstacle_slots()) {
+      if (m->geom_bodyid[geom] == slot.body) return true;
+    }
+    return false;
+  };
+  const core::VariationOptions& v = scenario.variation;
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    const bool robot = scene.is_robot_geom(c.geom1) || scene.is_robot_geom(c.geom2);
+    if (!robot && c.dist >= -0.001) continue;
+    const bool obstacle = is_obstacle(c.geom1) || is_obstacle(c.geom2);
+    const std::string key = obstacle                       ? "obstacles"
+                            : robot && v.robot_start       ? "robot_start"
+                            : !robot && !v.objects.empty() ? "objects"
+                            : !v.surfaces.empty()          ? "surfaces"
+                                                           : "obstacles";
+    char depth[32];
+    std::snprintf(depth, sizeof depth, "%.1f", -c.dist * 1000);
+    throw fail(key, "at the start " + name(c.geom1) + " touches " + name(c.geom2) + " (depth " +
+                        depth + " mm)" +
+                        (robot ? ": the robot must start clear of everything" : ""));
+  }
+  return layout;
+}
+
 TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
                       std::uint64_t layout_seed, std::uint32_t seed,
                       const core::ProgramRegistry& registry, const TrialObserver& observe,
                       const TrialOptions& trial_options) {
   const auto t0 = std::chrono::steady_clock::now();
   mujoco::MujocoSkillset skills(std::move(scene));
-  skills.apply_layout(skills.scene().make_layout(scenario.obstacles, layout_seed));
+  TrialResult result;
+  result.layout = trial_options.layout ? *trial_options.layout
+                                       : skills.scene().make_trial_layout(
+                                             scenario.obstacles, scenario.variation, layout_seed);
+  skills.apply_layout(result.layout);
   if (trial_options.record_rate_hz > 0) skills.record_states(trial_options.record_rate_hz);
   skills.set_visitor_walk(scenario.visitor_speed_mps);
   std::unique_ptr<core::Perception> perception;
@@ -60,7 +117,6 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
   if (planner) options.plan.planner = planner->spec;
   core::Executive executive(skills, registry, perception.get(), options);
 
-  TrialResult result;
   auto finish = [&](const std::string& reason) {
     result.success = reason.empty();
     result.status = reason.empty() ? "success" : status_of(reason);

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "harness/layout_json.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
@@ -65,6 +66,7 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
     events.push_back(std::move(ev));
   }
   j["events"] = std::move(events);
+  j["layout"] = layout_json(r.layout);
   nlohmann::json plans = nlohmann::json::array();
   for (const mujoco::PlanCallRecord& p : w.plans) {
     plans.push_back({{"t", p.time_s},

@@ -217,6 +217,18 @@ void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
   mj_forward(worker_.model(), worker_.data());
 }
 
+void MujocoSkillset::apply_layout(const core::TrialLayout& layout) {
+  require_no_query("apply_layout");
+  worker_.apply_variation(layout.variation);
+  const mjModel* m = worker_.model();
+  for (Debris& flake : debris_) {  // where the variation put them
+    flake.pos = Eigen::Vector3d(m->body_pos[3 * flake.body], m->body_pos[3 * flake.body + 1],
+                                m->body_pos[3 * flake.body + 2]);
+  }
+  apply_layout(layout.obstacles);
+  reset();
+}
+
 void MujocoSkillset::set_obstacles_need_perception(bool need) {
   require_no_query("set_obstacles_need_perception");
   obstacles_need_perception_ = need;
