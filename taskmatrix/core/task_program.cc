@@ -167,7 +167,7 @@ MessageType message_type_from_string(const std::string& name) {
 
 void TaskProgram::halt(ProgramContext& ctx) {
   const std::vector<std::string> mine = chains(ctx.skills());
-  if (!mine.empty()) ctx.skills().command(mine, ctx.skills().configuration(mine));
+  if (!mine.empty()) ctx.skills().command(mine, ctx.skills().clamped_configuration(mine));
 }
 
 void ProgramRegistry::add(ProgramType type) {

@@ -14,6 +14,9 @@ namespace taskmatrix::mujoco {
 namespace {
 
 constexpr double kLimitSlack = 1e-9;
+// A command this far past a limit is rounding (of arithmetic on the limit's value) and is
+// clamped to it; further is an error of the caller.
+constexpr double kCommandTolerance = 1e-6;
 
 std::string body_name(const mjModel* m, int body) {
   const char* name = mj_id2name(m, mjOBJ_BODY, body);
@@ -610,7 +613,7 @@ void MujocoSkillset::command(const std::vector<std::string>& chain_names,
   const mjModel* m = worker_.model();
   for (size_t i = 0; i < joints.size(); ++i) {
     const double lo = m->jnt_range[2 * joints[i]], hi = m->jnt_range[2 * joints[i] + 1];
-    if (positions[i] < lo - kLimitSlack || positions[i] > hi + kLimitSlack) {
+    if (positions[i] < lo - kCommandTolerance || positions[i] > hi + kCommandTolerance) {
       char buf[200];
       std::snprintf(buf, sizeof buf,
                     "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]", positions[i],

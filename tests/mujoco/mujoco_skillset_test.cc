@@ -247,6 +247,30 @@ TEST_P(SkillsetOnBothRobots, NanAndOutOfLimitInputsAreRejectedWithTheJointNamed)
   EXPECT_EQ(skills().configuration(chains), q);
 }
 
+TEST_P(SkillsetOnBothRobots, AJointAHairPastItsLimitIsHeldAtTheLimitNeverRejected) {
+  const Chains chains = {"left_arm"};
+  const core::ChainInfo& arm = skills().chain("left_arm");
+  std::vector<double> q = skills().configuration(chains);
+  // Rounding on a limit's value is clamped; anything further is the caller's error.
+  q[2] = arm.upper[2] + 1e-7;
+  EXPECT_NO_THROW(skills().command(chains, q));
+  q[2] = arm.upper[2] + 1e-4;
+  EXPECT_THROW(skills().command(chains, q), std::invalid_argument);
+
+  // The joint settled 0.1 mrad past its limit (a soft limit): holding it where it is commands
+  // the limit.
+  const mjModel* m = skills_->model();
+  mjData* d = const_cast<mjData*>(skills_->sim_data());
+  const int joint = mj_name2id(m, mjOBJ_JOINT, arm.joints[2].c_str());
+  d->qpos[m->jnt_qposadr[joint]] = arm.upper[2] + 1e-4;
+  mj_forward(m, d);
+  EXPECT_GT(skills().configuration(chains)[2], arm.upper[2]);
+  const std::vector<double> hold = skills().clamped_configuration(chains);
+  EXPECT_EQ(hold[2], arm.upper[2]);
+  EXPECT_THROW(skills().command(chains, skills().configuration(chains)), std::invalid_argument);
+  EXPECT_NO_THROW(skills().command(chains, hold));
+}
+
 TEST_P(SkillsetOnBothRobots, QueriesNeverDisturbTheSimulation) {
   const mjModel* m = skills_->model();
   const std::vector<double> qpos(skills_->sim_data()->qpos, skills_->sim_data()->qpos + m->nq);
