@@ -12,12 +12,19 @@ namespace taskmatrix::harness {
 
 namespace {
 
-std::string status_of(const std::string& reason) {
-  const size_t colon = reason.find(':');
-  return colon == std::string::npos ? reason : reason.substr(0, colon);
+// A trial's failure reason stays readable: longer ones are cut here, and the whole text is
+// in the trial's events (the failed message).
+constexpr size_t kMaxReasonChars = 600;
+
+std::string bounded(std::string reason) {
+  if (reason.size() <= kMaxReasonChars) return reason;
+  reason.resize(kMaxReasonChars);
+  return reason + " ... (the whole reason is in the trial's events)";
 }
 
-// Runs one program to its end or the limit; "" on completion, else the reason.
+// Runs one program to its end or the limit; "" on completion, else the failure as a user
+// reads it (core::failure_text: the path through nested machines, then the reason). An
+// exception that escapes the executive (the world's, not a program's) fails the program too.
 std::string run_program(core::Executive& executive, const ProgramCall& call, double limit_s) {
   int id = -1;
   try {
@@ -25,15 +32,19 @@ std::string run_program(core::Executive& executive, const ProgramCall& call, dou
   } catch (const std::invalid_argument& e) {
     return std::string("invalid_input: ") + e.what();
   }
-  executive.run(limit_s);
+  try {
+    executive.run(limit_s);
+  } catch (const std::exception& e) {
+    return "program_error: " + call.program + ": " + e.what();
+  }
   const core::Message* outcome = executive.outcome(id);
   if (!outcome) {
     executive.halt(id);
     return "time_limit: " + call.program + " still running after " + std::to_string(limit_s) + " s";
   }
   if (outcome->type == core::MessageType::kCompleted) return "";
-  return outcome->reason.empty() ? call.program + " " + core::to_string(outcome->type)
-                                 : outcome->reason;
+  if (outcome->reason.empty()) return call.program + " " + core::to_string(outcome->type);
+  return core::failure_text(call.program, *outcome);
 }
 
 }  // namespace
@@ -119,16 +130,22 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
 
   auto finish = [&](const std::string& reason) {
     result.success = reason.empty();
-    result.status = reason.empty() ? "success" : status_of(reason);
-    result.failure_reason = reason;
+    result.status = reason.empty() ? "success" : core::failure_status(reason);
+    result.failure_reason = bounded(reason);
     result.log = executive.log();
     result.series = executive.series();
     for (const core::Message& m : result.log) {
-      if (m.type == core::MessageType::kPlanningStarted ||
-          m.type == core::MessageType::kPlanningEnded) {
+      if (m.type == core::MessageType::kPlanningStarted) continue;
+      if (m.type == core::MessageType::kPlanningEnded) {
+        // Only plans whose failure has more to say than its summary (every IK attempt).
+        if (!m.plan || m.plan->detail.empty()) continue;
+        result.events.push_back(
+            {m.time, m.sender, m.program, core::to_string(m.type),
+             std::string(core::to_string(m.plan->status)) + ": " + m.plan->detail, ""});
         continue;
       }
-      result.events.push_back({m.time, m.sender, m.program, core::to_string(m.type), m.reason});
+      result.events.push_back(
+          {m.time, m.sender, m.program, core::to_string(m.type), m.reason, m.path});
     }
     result.work = skills.work();
     result.sim_time_s = skills.time();
@@ -152,7 +169,10 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
   };
   for (const ProgramCall& step : scenario.setup) {
     const std::string failed = timed_run(step);
-    if (!failed.empty()) return finish("setup_failed: " + step.program + ": " + failed);
+    if (!failed.empty()) {
+      const bool names_program = failed.rfind(step.program + " > ", 0) == 0;
+      return finish("setup_failed: " + (names_program ? "" : step.program + ": ") + failed);
+    }
   }
   if (observe) observe("setup", skills);
   const double start = skills.time();
@@ -164,8 +184,12 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
     core::PerceptualModel truth;
     mujoco::GroundTruthPerception(skills).update(skills.time(), truth);
     const core::ConditionPtr criterion = core::parse_condition(scenario.success);
-    if (!criterion->holds(core::World{skills, truth})) {
-      return finish("criterion_false: " + criterion->describe() + " does not hold at the end");
+    const core::World world{skills, truth};
+    if (!criterion->holds(world)) {
+      const std::string why = criterion->explain(world);
+      const bool whole = why.rfind(criterion->describe(), 0) == 0;
+      return finish("criterion_false: " + why +
+                    (whole ? "" : " (success condition " + criterion->describe() + ")"));
     }
   }
   return finish("");

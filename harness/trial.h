@@ -25,13 +25,16 @@ struct TrialEvent {
   std::string program;
   std::string type;
   std::string reason;
+  std::string path;  // of a state machine's failure (core::Message::path)
 };
 
 struct TrialResult {
   bool success = false;
-  // "success", or the failure's status: the reason's prefix ("ik_failure", "collision", ...),
-  // "setup_failed", "time_limit" (still running at the limit), "criterion_false" (the
-  // program completed but the success condition does not hold), "invalid_input".
+  // "success", or the failure's status: the reason's prefix after any path through state
+  // machines ("ik_failure", "collision", ...), "setup_failed", "time_limit" (still running at
+  // the limit), "criterion_false" (the program completed but the success condition does not
+  // hold: the reason says which clause and what was measured), "invalid_input",
+  // "program_error" (a program threw; the trial goes on, the worker lives).
   std::string status;
   std::string failure_reason;
   double duration_s = 0;    // simulated seconds of the scenario's program

@@ -63,6 +63,7 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
     nlohmann::json ev = {
         {"t", e.time_s}, {"id", e.sender}, {"program", e.program}, {"type", e.type}};
     if (!e.reason.empty()) ev["reason"] = e.reason;
+    if (!e.path.empty()) ev["path"] = e.path;
     events.push_back(std::move(ev));
   }
   j["events"] = std::move(events);

@@ -514,7 +514,9 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
   const BeliefScope belief(*this);
   core::PlanResult total;
   total.status = core::PlanStatus::kIkFailure;
-  std::string ik_reasons;
+  std::string ik_reasons;  // every pose's IK failure: the detail
+  int unreachable = 0, in_collision = 0, best_pose = -1;
+  double best_position = 0, best_angle = 0;
   bool any_planned = false;
   for (size_t k = 0; k < targets.size(); ++k) {
     sync_query();
@@ -529,6 +531,15 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
     if (solved.status != core::IkStatus::kSolved) {
       ik_reasons += (ik_reasons.empty() ? "" : "; ") + std::string("pose ") + std::to_string(k) +
                     ": " + core::to_string(solved.status) + " (" + solved.reason + ")";
+      (solved.status == core::IkStatus::kInCollision ? in_collision : unreachable) += 1;
+      const bool better =
+          best_pose < 0 || solved.position_error_m < best_position ||
+          (solved.position_error_m == best_position && solved.orientation_error_rad < best_angle);
+      if (better) {
+        best_pose = static_cast<int>(k);
+        best_position = solved.position_error_m;
+        best_angle = solved.orientation_error_rad;
+      }
       continue;
     }
     MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_);
@@ -551,7 +562,17 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
       return total;
     }
   }
-  if (!any_planned) total.message = "no target pose has an IK solution: " + ik_reasons;
+  if (!any_planned) {
+    // A summary of bounded length; every attempt is in `detail`.
+    char best[160];
+    std::snprintf(best, sizeof best, "; the closest, pose %d, ended %.1f cm and %.1f deg off",
+                  best_pose, best_position * 100, best_angle * 180 / M_PI);
+    total.message = "no target pose has an IK solution: " + std::to_string(targets.size()) +
+                    (targets.size() == 1 ? " pose" : " poses") + " tried (" +
+                    std::to_string(unreachable) + " unreachable, " + std::to_string(in_collision) +
+                    " with every solution in collision)" + (best_pose >= 0 ? best : "");
+    total.detail = ik_reasons;
+  }
   return total;
 }
 

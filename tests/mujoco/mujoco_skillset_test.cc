@@ -142,6 +142,12 @@ TEST_P(SkillsetOnBothRobots, IkReachesSampledPosesAndReportsUnreachableOnes) {
   const core::PlanResult p = skills().plan_to_poses(chains, palm, {far}, plan, quick);
   EXPECT_EQ(p.status, core::PlanStatus::kIkFailure) << p.message;
   EXPECT_NE(p.message.find("no target pose has an IK solution"), std::string::npos);
+  // A summary (how many poses, how close the best came); every attempt is in the detail.
+  EXPECT_NE(p.message.find("1 pose tried (1 unreachable, 0 with every solution in collision)"),
+            std::string::npos)
+      << p.message;
+  EXPECT_NE(p.message.find("the closest, pose 0, ended "), std::string::npos) << p.message;
+  EXPECT_EQ(p.detail.rfind("pose 0: unreachable (", 0), 0u) << p.detail;
   EXPECT_EQ(p.plan_calls, 0);
   EXPECT_GT(p.ik_time_s, 0);
 }

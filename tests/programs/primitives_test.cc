@@ -148,9 +148,15 @@ TEST_P(PrimitivesTest, FailuresNameTheirReason) {
   EXPECT_EQ(reason("reach", {{"object", "teapot"}}),
             "perception_miss: 'teapot' is not in the perceptual model");
   EXPECT_EQ(reason("reach", {{"object", "visitor"}}).rfind("ik_failure: ", 0), 0u);
-  EXPECT_EQ(reason("grasp", {{"object", "cup"}, {"side", "left"}}),
-            "precondition_false: graspable(cup, left)");
-  EXPECT_EQ(reason("release", {{"object", "cup"}}), "precondition_false: grasping(cup)");
+  // A false precondition says what was measured.
+  const std::string not_graspable = reason("grasp", {{"object", "cup"}, {"side", "left"}});
+  EXPECT_EQ(
+      not_graspable.rfind("precondition_false: graspable(cup, left): the nearest palm is ", 0), 0u)
+      << not_graspable;
+  EXPECT_NE(not_graspable.find(" from cup's grasp point (at most 3.0 cm)"), std::string::npos)
+      << not_graspable;
+  EXPECT_EQ(reason("release", {{"object", "cup"}}),
+            "precondition_false: grasping(cup): no hand holds cup");
   EXPECT_EQ(reason("postural", {{"posture", "cartwheel"}}),
             "invalid_input: robot '" + skills_->profile().name + "' has no posture 'cartwheel'");
   EXPECT_EQ(reason("canned", {{"motion", "moonwalk"}}),
