@@ -122,41 +122,41 @@ class Postural final : public Condition {
  public:
   Postural(std::string posture, std::vector<std::string> chains, double tol)
       : posture_(std::move(posture)), chains_(std::move(chains)), tol_(tol) {}
-  bool holds(const World& w, const Hypothesis*) const override {
-    const Posture& p = w.skills.posture(posture_);
-    for (const auto& [chain, values] : p) {
-      if (!chains_.empty() && std::find(chains_.begin(), chains_.end(), chain) == chains_.end())
-        continue;
-      const std::vector<double> q = w.skills.configuration({chain});
-      for (size_t i = 0; i < q.size(); ++i) {
-        if (std::abs(q[i] - values[i]) > tol_) return false;
-      }
-    }
-    return true;
-  }
+  bool holds(const World& w, const Hypothesis*) const override { return !first_off(w); }
   std::string describe() const override {
     std::string s = "postural(" + posture_;
     for (const std::string& c : chains_) s += ", " + c;
     return s + ")";
   }
   std::string explain(const World& w) const override {
+    const std::optional<Off> off = first_off(w);
+    if (!off) return describe() + " holds";
+    std::ostringstream s;
+    s << describe() << ": joint " << off->joint << " is " << off->distance
+      << " from the posture (tolerance " << tol_ << ")";
+    return s.str();
+  }
+
+ private:
+  struct Off {
+    std::string joint;
+    double distance;
+  };
+  // The first joint further than tol_ from the posture; none when the condition holds.
+  std::optional<Off> first_off(const World& w) const {
     const Posture& p = w.skills.posture(posture_);
     for (const auto& [chain, values] : p) {
       if (!chains_.empty() && std::find(chains_.begin(), chains_.end(), chain) == chains_.end())
         continue;
       const std::vector<double> q = w.skills.configuration({chain});
       for (size_t i = 0; i < q.size(); ++i) {
-        if (std::abs(q[i] - values[i]) <= tol_) continue;
-        std::ostringstream s;
-        s << describe() << ": joint " << w.skills.chain(chain).joints.at(i) << " is "
-          << std::abs(q[i] - values[i]) << " from the posture (tolerance " << tol_ << ")";
-        return s.str();
+        const double distance = std::abs(q[i] - values[i]);
+        if (distance > tol_) return Off{w.skills.chain(chain).joints.at(i), distance};
       }
     }
-    return describe() + " holds";
+    return std::nullopt;
   }
 
- private:
   std::string posture_;
   std::vector<std::string> chains_;
   double tol_;
