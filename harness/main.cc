@@ -19,7 +19,9 @@
 #include "harness/model_catalog.h"
 #include "harness/replay.h"
 #include "harness/run_job.h"
+#include "harness/scenario.h"
 #include "harness/scenes_job.h"
+#include "harness/trial.h"
 #include "harness/trial_video.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/obstacle_layout.h"
@@ -35,9 +37,10 @@ using taskmatrix::harness::ModelCatalog;
 
 struct RenderOptions {
   std::string robot, environment, camera, posture = "rest", out;
-  std::string trial;  // RUN_DIR:TRIAL_ID: a frame of a recorded trial
-  double time = -1;   // of the trial's frame; < 0: the last frame
-  std::string video;  // with --trial: the whole trial as MP4 instead of one frame
+  std::string trial;     // RUN_DIR:TRIAL_ID: a frame of a recorded trial
+  std::string scenario;  // draw the world of this scenario's layout seed --seed
+  double time = -1;      // of the trial's frame; < 0: the last frame
+  std::string video;     // with --trial: the whole trial as MP4 instead of one frame
   double fps = 25, speed = 1.0;
   long long seed = 1;
   int obstacles = 8;
@@ -107,8 +110,17 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   if (o.out.empty()) throw taskmatrix::core::InputError("render", "", "needs --out F.png");
   auto scene = mj::Scene::load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
   mj::WorkerScene worker(scene);
-  worker.apply_layout(scene->make_layout(o.obstacles, static_cast<std::uint64_t>(o.seed)));
-  std::vector<double> qpos = scene->start_qpos();
+  if (o.scenario.empty()) {
+    worker.apply_layout(scene->make_layout(o.obstacles, static_cast<std::uint64_t>(o.seed)));
+  } else {
+    taskmatrix::core::ProgramRegistry registry;
+    taskmatrix::programs::register_programs(registry);
+    const taskmatrix::harness::Scenario s =
+        taskmatrix::harness::load_run_plan(o.scenario, catalog, registry).scenarios.at(0);
+    taskmatrix::harness::draw_trial_layout(s, worker, static_cast<std::uint64_t>(o.seed),
+                                           "--seed " + std::to_string(o.seed));
+  }
+  std::vector<double> qpos = worker.start_qpos();
   try {
     scene->apply_posture(o.posture, qpos.data());
   } catch (const std::out_of_range& e) {
@@ -134,9 +146,11 @@ int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   } else {
     mj::write_png(o.out, renderer.render_rgb(worker.model(), worker.data(), view));
   }
-  std::printf("%s: %s in %s, seed %lld, %d obstacles, camera %s%s\n", o.out.c_str(),
-              o.robot.c_str(), o.environment.c_str(), o.seed, o.obstacles, camera.c_str(),
-              o.depth ? " (depth)" : "");
+  std::printf("%s: %s in %s, seed %lld, %s, camera %s%s\n", o.out.c_str(), o.robot.c_str(),
+              o.environment.c_str(), o.seed,
+              o.scenario.empty() ? (std::to_string(o.obstacles) + " obstacles").c_str()
+                                 : ("the world of " + o.scenario).c_str(),
+              camera.c_str(), o.depth ? " (depth)" : "");
   return 0;
 }
 
@@ -165,6 +179,10 @@ int main(int argc, char** argv) {
       ->add_option("--time", render_options.time,
                    "simulated time of the trial's frame in seconds (default: its last frame)")
       ->check(finite_range(0.0, 1e9));
+  render->add_option("--time", render_options.time,
+                     "simulated time of the trial's frame in seconds (default: its last frame)");
+  render->add_option("--scenario", render_options.scenario,
+                     "draw the world of this scenario (or a suite's first) for layout seed --seed");
   render->add_option("--seed", render_options.seed, "obstacle layout seed")
       ->check(CLI::Validator(
           [](std::string& v) {

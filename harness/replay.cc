@@ -45,7 +45,7 @@ Replay::Replay(const ModelCatalog& catalog, TrajectoryFile trajectory)
                                std::to_string(worker_.model()->nq) +
                                " (the robot or environment changed since)");
   }
-  worker_.apply_layout(trajectory_.layout);
+  worker_.apply(core::TrialLayout{trajectory_.variation, trajectory_.layout});
   for (const std::string& name : trajectory_.removed_bodies) {
     const int body = mj_name2id(worker_.model(), mjOBJ_BODY, name.c_str());
     if (body < 0) throw core::InputError("trajectory", "removals", "no body '" + name + "'");

@@ -12,6 +12,7 @@
 #include <set>
 
 #include "harness/json_input.h"
+#include "harness/layout_json.h"
 #include "harness/ompl_log.h"
 #include "harness/planner_comparison.h"
 #include "harness/provenance.h"
@@ -66,6 +67,7 @@ struct Prepared {
   std::vector<TrialSpec> matrix;  // of the shard
   size_t whole_matrix = 0;        // trials of the whole matrix
   SceneMap scenes;
+  std::map<std::string, core::TrialLayout> layouts;  // by trial id
 };
 
 // Loads the plan and every scene it needs, and draws every trial's layout once, so that a
@@ -88,6 +90,7 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
     p.matrix = {parse_trial_id(p.plan, only)};
     p.whole_matrix = 1;
   }
+  std::map<std::pair<std::string, std::string>, std::unique_ptr<mujoco::WorkerScene>> workers;
   for (const TrialSpec& t : p.matrix) {
     // The id names the trial's trajectory file (at most 255 bytes with its suffix).
     if (t.id.size() > kMaxTrialIdLength) {
@@ -102,13 +105,10 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
       scene =
           mujoco::Scene::load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
     }
+    auto& worker = workers[{t.robot, t.environment}];
+    if (!worker) worker = std::make_unique<mujoco::WorkerScene>(scene);
     const Scenario& s = p.plan.scenarios[static_cast<size_t>(t.scenario)];
-    try {
-      scene->make_layout(s.obstacles, t.layout_seed);
-    } catch (const core::InputError& e) {
-      throw core::InputError(s.file.string(), "obstacles",
-                             "cannot lay out trial " + t.id + ": " + e.what());
-    }
+    p.layouts[t.id] = draw_trial_layout(s, *worker, t.layout_seed, t.id);
   }
   return p;
 }
@@ -338,13 +338,15 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     TrialOptions topt;
     topt.planner = &s.planners[static_cast<size_t>(t.planner)];
     topt.record_rate_hz = keep_trajectories ? options.record_rate_hz : 0;
+    topt.layout = &p.layouts.at(t.id);
     const TrialResult r = run_trial(s, scene, t.layout_seed, t.seed, registry, nullptr, topt);
     nlohmann::json j = trial_json(plan, t, r);
     if (keep_trajectories) {
       TrajectoryFile file;
       file.robot = t.robot;
       file.environment = t.environment;
-      file.layout = scene->make_layout(s.obstacles, t.layout_seed);
+      file.layout = r.layout.obstacles;
+      file.variation = r.layout.variation;
       file.recording = r.recording;
       file.removed_bodies = r.removed_debris;
       const std::string rel = "trajectories/" + t.id + ".traj.gz";
@@ -369,6 +371,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
       }
     } else {
       j = failed_trial_json(plan, t, o.status, o.reason);
+      j["layout"] = layout_json(p.layouts.at(t.id));
     }
     j["wall_time_s"] = o.wall_s;
     j["peak_memory_mb"] = o.peak_memory_mb;

@@ -101,11 +101,13 @@ std::pair<double, double> read_range(const io::YamlNode& node) {
   return {v[0], v[1]};
 }
 
-core::ObstacleOptions read_obstacles(const io::YamlNode& o) {
-  o.expect_keys({"count", "regions", "shapes", "footprint_m", "half_height_m"});
+core::ObstacleOptions read_obstacles(const io::YamlNode& o, KeyLines& lines) {
+  o.expect_keys({"count", "regions", "shapes", "footprint_m", "half_height_m", "near", "path",
+                 "overhead", "floor"});
   core::ObstacleOptions out;
-  const io::YamlNode count = o.required("count");
-  out.count = count.as_int();
+  read_targeted_obstacles(o, out, lines);
+  const io::YamlNode count = out.targeted.empty() || o.has("count") ? o.required("count") : o;
+  out.count = count.is_map() ? 0 : count.as_int();
   if (out.count < 0) count.fail("must be 0 or more");
   if (auto regions = o.optional("regions")) {
     out.regions = regions->as_strings();
@@ -211,7 +213,10 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
                     "time_limit_s",
                     "wall_limit_s",
                     "success",
-                    "execution"});
+                    "execution",
+                    "objects",
+                    "surfaces",
+                    "robot_start"});
   Scenario s;
   s.file = file;
   s.file_text = io::read_text_file(file);
@@ -252,7 +257,9 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
     }
   }
   if (auto e = root.optional("execution")) s.execution = read_execution(*e);
-  if (auto o = root.optional("obstacles")) s.obstacles = read_obstacles(*o);
+  if (auto o = root.optional("obstacles")) s.obstacles = read_obstacles(*o, s.key_lines);
+  s.variation = read_variation(root, s.key_lines);
+  s.variation_file = file;
   if (auto p = root.optional("planners")) s.planners = read_planners(*p);
   if (auto seed = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*seed);
   if (auto seed = root.optional("seed")) s.seed = read_seed(*seed);
@@ -293,7 +300,8 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
   }
   root.expect_keys({"suite", "doc", "scenarios", "trials", "layout_seed", "seed", "planners",
                     "robots", "environments", "planner_budget", "plan_iterations",
-                    "plan_time_limit_s", "wall_limit_s", "execution"});
+                    "plan_time_limit_s", "wall_limit_s", "execution", "objects", "surfaces",
+                    "robot_start"});
   plan.suite = true;
   plan.text = io::read_text_file(file);
   plan.name = root.required("suite").as_string();
@@ -330,6 +338,22 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     if (auto n = root.optional("plan_time_limit_s")) s.plan_time_limit_s = read_plan_time_limit(*n);
     if (auto n = root.optional("wall_limit_s")) s.wall_limit_s = read_wall_limit(*n);
     if (auto n = root.optional("execution")) s.execution = read_execution(*n);
+  }
+  // Variation keys of the suite replace each scenario's.
+  KeyLines suite_lines;
+  const core::VariationOptions variation = read_variation(root, suite_lines);
+  if (!variation.empty()) {
+    for (Scenario& s : plan.scenarios) {
+      s.variation = variation;
+      for (auto it = s.key_lines.begin(); it != s.key_lines.end();) {
+        const bool varied = it->first.rfind("objects", 0) == 0 ||
+                            it->first.rfind("surfaces", 0) == 0 ||
+                            it->first.rfind("robot_start", 0) == 0;
+        it = varied ? s.key_lines.erase(it) : std::next(it);
+      }
+      s.key_lines.insert(suite_lines.begin(), suite_lines.end());
+      s.variation_file = file;
+    }
   }
   return plan;
 }

@@ -14,9 +14,11 @@
 #include <vector>
 
 #include "harness/model_catalog.h"
+#include "harness/scenario_variation.h"
 #include "taskmatrix/core/obstacle_layout.h"
 #include "taskmatrix/core/planning_types.h"
 #include "taskmatrix/core/task_program.h"
+#include "taskmatrix/core/task_variation.h"
 
 namespace taskmatrix::harness {
 
@@ -44,6 +46,9 @@ struct Scenario {
   // its commanded configurations; mujoco_skillset.h).
   std::string execution = "physics";
   core::ObstacleOptions obstacles;
+  core::VariationOptions variation;      // objects:, surfaces:, robot_start:
+  KeyLines key_lines;                    // of the variation and targeted obstacle keys
+  std::filesystem::path variation_file;  // where the variation keys are: the file or its suite
   std::vector<PlannerConfig> planners{{"RRTConnect", {}}};
   std::uint64_t layout_seed = 1;  // trial k (0-based) uses layout_seed + k
   std::uint32_t seed = 1;         // of the executive's plan-seed sequence; trial k: seed + k
@@ -73,7 +78,8 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
 //   trials: 3                     # optional overrides for every scenario: trials,
 //                                 # layout_seed, seed, planners, robots, environments,
 //                                 # planner_budget, plan_iterations, plan_time_limit_s,
-//                                 # wall_limit_s, execution
+//                                 # wall_limit_s, execution, and the variation keys
+//                                 # objects, surfaces, robot_start (replacing the scenario's)
 struct RunPlan {
   std::string name;
   std::string doc;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "harness/json_input.h"
+#include "harness/layout_json.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
@@ -58,6 +59,7 @@ void write_trajectory_file(const std::filesystem::path& file, const TrajectoryFi
                          {"footprint_radius", o.footprint_radius}});
   }
   header["obstacles"] = obstacles;
+  if (!t.variation.empty()) header["variation"] = variation_json(t.variation);
   header["nq"] = r.nq;
   header["frame_period_s"] = r.frame_period_s;
   header["frames"] = r.frames();
@@ -154,6 +156,13 @@ TrajectoryFile read_trajectory_file(const std::filesystem::path& file) {
     p.yaw = number(o, "yaw", ow);
     p.footprint_radius = number(o, "footprint_radius", ow);
     t.layout.obstacles.push_back(p);
+  }
+  if (const auto v = h.find("variation"); v != h.end()) {
+    try {
+      t.variation = variation_from_json(*v);
+    } catch (const std::exception& e) {
+      where.at("variation").fail(std::string("malformed: ") + e.what());
+    }
   }
   const std::uint64_t values = json_field(h, "nq", JsonKind::kUnsigned, where).get<std::uint64_t>();
   if (values == 0 || values > kMaxNq) where.at("nq").fail("must be in 1..100000");

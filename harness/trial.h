@@ -25,13 +25,16 @@ struct TrialEvent {
   std::string program;
   std::string type;
   std::string reason;
+  std::string path;  // of a state machine's failure (core::Message::path)
 };
 
 struct TrialResult {
   bool success = false;
-  // "success", or the failure's status: the reason's prefix ("ik_failure", "collision", ...),
-  // "setup_failed", "time_limit" (still running at the limit), "criterion_false" (the
-  // program completed but the success condition does not hold), "invalid_input".
+  // "success", or the failure's status: the reason's prefix after any path through state
+  // machines ("ik_failure", "collision", ...), "setup_failed", "time_limit" (still running at
+  // the limit), "criterion_false" (the program completed but the success condition does not
+  // hold: the reason says which clause and what was measured), "invalid_input",
+  // "program_error" (a program threw; the trial goes on, the worker lives).
   std::string status;
   std::string failure_reason;
   double duration_s = 0;    // simulated seconds of the scenario's program
@@ -46,6 +49,7 @@ struct TrialResult {
   std::vector<core::RecordedSeries> series;
   mujoco::StateRecording recording;  // empty unless asked for
   std::vector<std::string> removed_debris;
+  core::TrialLayout layout;  // the drawn world: task variation and obstacles
 };
 
 // Called after set-up and at the end, for looking at the trial (renders).
@@ -55,7 +59,17 @@ using TrialObserver =
 struct TrialOptions {
   const PlannerConfig* planner = nullptr;  // default: the scenario's first planner
   double record_rate_hz = 0;               // > 0: record the simulated state for replay
+  // The trial's drawn world, if already drawn (the runner draws every trial's before forking
+  // workers); default: drawn here from the scenario and the layout seed.
+  const core::TrialLayout* layout = nullptr;
 };
+
+// Draws a trial's world (task variation, then obstacles: Scene::make_trial_layout) and checks
+// it in `worker` (a copy of the scene): at its start the robot touches nothing and no two
+// bodies interpenetrate by more than 1 mm. Throws core::InputError naming the scenario file,
+// the line and key at fault, and the trial. Leaves the layout applied to `worker`.
+core::TrialLayout draw_trial_layout(const Scenario& scenario, mujoco::WorkerScene& worker,
+                                    std::uint64_t layout_seed, const std::string& trial_id);
 
 TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
                       std::uint64_t layout_seed, std::uint32_t seed,

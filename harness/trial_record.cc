@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "harness/json_input.h"
+#include "harness/layout_json.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
@@ -69,9 +70,11 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
     nlohmann::json ev = {
         {"t", e.time_s}, {"id", e.sender}, {"program", e.program}, {"type", e.type}};
     if (!e.reason.empty()) ev["reason"] = e.reason;
+    if (!e.path.empty()) ev["path"] = e.path;
     events.push_back(std::move(ev));
   }
   j["events"] = std::move(events);
+  j["layout"] = layout_json(r.layout);
   nlohmann::json plans = nlohmann::json::array();
   for (const mujoco::PlanCallRecord& p : w.plans) {
     plans.push_back({{"t", p.time_s},

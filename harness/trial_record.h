@@ -7,7 +7,9 @@
 // path_length_joint, path_length_ee_m, duration_s, sim_time_s, smoothness, min_clearance_m,
 // wall_time_s, trial_wall_s, executive_wall_s, stepping_wall_s, monitoring_wall_s,
 // contacts_per_pass, overhead_s, cpu_time_s, peak_memory_mb, events,
-// plans, removed_debris, trajectory, clock_bound_hit. Unmeasured values (a crashed trial's) are
+// plans, removed_debris, trajectory, clock_bound_hit, layout (the drawn world:
+// harness/layout_json.h; also for a crashed or killed trial, drawn by the runner). Unmeasured
+// values (a crashed trial's) are
 // null.
 #pragma once
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,6 +14,21 @@ namespace {
 
 constexpr double kAboveTolerance = 0.02;
 constexpr double kGraspableDistance = 0.03;
+
+std::string cm(double metres) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f cm", metres * 100);
+  return buf;
+}
+
+// Which of `ids` the perceptual model does not know.
+std::string unknown(const World& w, const std::vector<std::string>& ids) {
+  std::string out;
+  for (const std::string& id : ids) {
+    if (!w.percepts.find(id)) out += (out.empty() ? "" : " and ") + id;
+  }
+  return out + " unknown to the perceptual model";
+}
 
 std::optional<Eigen::AlignedBox3d> box_of(const World& world, const std::string& id,
                                           const Hypothesis* h) {
@@ -47,6 +64,12 @@ class Near final : public Condition {
     s << "near(" << a_ << ", " << b_ << ", " << d_ << ")";
     return s.str();
   }
+  std::string explain(const World& w) const override {
+    const auto a = box_of(w, a_, nullptr), b = box_of(w, b_, nullptr);
+    if (!a || !b) return describe() + ": " + unknown(w, {a_, b_});
+    if (box_distance(*a, *b) <= d_) return describe() + " holds";
+    return describe() + ": " + a_ + " is " + cm(box_distance(*a, *b)) + " from " + b_;
+  }
   // On top of b, anywhere within d of its footprint.
   std::optional<Eigen::AlignedBox3d> propose(const World& w, const std::string& object,
                                              std::mt19937_64& rng) const override {
@@ -72,6 +95,16 @@ class Above final : public Condition {
     return overlap_xy && a->min().z() >= b->max().z() - kAboveTolerance;
   }
   std::string describe() const override { return "above(" + a_ + ", " + b_ + ")"; }
+  std::string explain(const World& w) const override {
+    const auto a = box_of(w, a_, nullptr), b = box_of(w, b_, nullptr);
+    if (!a || !b) return describe() + ": " + unknown(w, {a_, b_});
+    if (holds(w, nullptr)) return describe() + " holds";
+    const bool overlap_xy = a->min().x() <= b->max().x() && b->min().x() <= a->max().x() &&
+                            a->min().y() <= b->max().y() && b->min().y() <= a->max().y();
+    if (!overlap_xy) return describe() + ": " + a_ + " is not over " + b_;
+    return describe() + ": " + a_ + "'s bottom is " + cm(b->max().z() - a->min().z()) + " below " +
+           b_ + "'s top";
+  }
   // Resting on b's top face, wholly inside its footprint when it fits.
   std::optional<Eigen::AlignedBox3d> propose(const World& w, const std::string& object,
                                              std::mt19937_64& rng) const override {
@@ -89,25 +122,41 @@ class Postural final : public Condition {
  public:
   Postural(std::string posture, std::vector<std::string> chains, double tol)
       : posture_(std::move(posture)), chains_(std::move(chains)), tol_(tol) {}
-  bool holds(const World& w, const Hypothesis*) const override {
+  bool holds(const World& w, const Hypothesis*) const override { return !first_off(w); }
+  std::string describe() const override {
+    std::string s = "postural(" + posture_;
+    for (const std::string& c : chains_) s += ", " + c;
+    return s + ")";
+  }
+  std::string explain(const World& w) const override {
+    const std::optional<Off> off = first_off(w);
+    if (!off) return describe() + " holds";
+    std::ostringstream s;
+    s << describe() << ": joint " << off->joint << " is " << off->distance
+      << " from the posture (tolerance " << tol_ << ")";
+    return s.str();
+  }
+
+ private:
+  struct Off {
+    std::string joint;
+    double distance;
+  };
+  // The first joint further than tol_ from the posture; none when the condition holds.
+  std::optional<Off> first_off(const World& w) const {
     const Posture& p = w.skills.posture(posture_);
     for (const auto& [chain, values] : p) {
       if (!chains_.empty() && std::find(chains_.begin(), chains_.end(), chain) == chains_.end())
         continue;
       const std::vector<double> q = w.skills.configuration({chain});
       for (size_t i = 0; i < q.size(); ++i) {
-        if (std::abs(q[i] - values[i]) > tol_) return false;
+        const double distance = std::abs(q[i] - values[i]);
+        if (distance > tol_) return Off{w.skills.chain(chain).joints.at(i), distance};
       }
     }
-    return true;
-  }
-  std::string describe() const override {
-    std::string s = "postural(" + posture_;
-    for (const std::string& c : chains_) s += ", " + c;
-    return s + ")";
+    return std::nullopt;
   }
 
- private:
   std::string posture_;
   std::vector<std::string> chains_;
   double tol_;
@@ -120,6 +169,9 @@ class Grasping final : public Condition {
     return !w.skills.holder_of(a_).empty();
   }
   std::string describe() const override { return "grasping(" + a_ + ")"; }
+  std::string explain(const World& w) const override {
+    return holds(w, nullptr) ? describe() + " holds" : describe() + ": no hand holds " + a_;
+  }
 
  private:
   std::string a_;
@@ -146,6 +198,20 @@ class Graspable final : public Condition {
     return false;
   }
   std::string describe() const override { return "graspable(" + a_ + ", " + side_ + ")"; }
+  std::string explain(const World& w) const override {
+    const PerceivedObject* known = w.percepts.find(a_);
+    if (!known) return describe() + ": " + unknown(w, {a_});
+    if (!w.skills.holder_of(a_).empty()) return describe() + ": " + a_ + " is held";
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const HandSpec& hand : w.skills.profile().hands) {
+      if (side_ != "any" && hand.side != side_) continue;
+      nearest = std::min(nearest,
+                         (w.skills.frame_pose(hand.palm).position - known->grasp_point()).norm());
+    }
+    if (nearest <= kGraspableDistance) return describe() + " holds";
+    return describe() + ": the nearest palm is " + cm(nearest) + " from " + a_ +
+           "'s grasp point (at most " + cm(kGraspableDistance) + ")";
+  }
 
  private:
   std::string a_, side_;
@@ -159,6 +225,11 @@ class InView final : public Condition {
     return box && in_camera_view(w.skills, *box);
   }
   std::string describe() const override { return "in_view(" + a_ + ")"; }
+  std::string explain(const World& w) const override {
+    if (!box_of(w, a_, nullptr)) return describe() + ": " + unknown(w, {a_});
+    return holds(w, nullptr) ? describe() + " holds"
+                             : describe() + ": " + a_ + " is outside the head camera's view";
+  }
 
  private:
   std::string a_;
@@ -171,6 +242,10 @@ class Exists final : public Condition {
     return !w.percepts.of_type(type_).empty();
   }
   std::string describe() const override { return "exists(" + type_ + ")"; }
+  std::string explain(const World& w) const override {
+    return holds(w, nullptr) ? describe() + " holds"
+                             : describe() + ": nothing of type " + type_ + " is known";
+  }
 
  private:
   std::string type_;
@@ -189,6 +264,18 @@ class Junction final : public Condition {
     std::string s = all_ ? "all_of(" : "any_of(";
     for (size_t i = 0; i < c_.size(); ++i) s += (i ? ", " : "") + c_[i]->describe();
     return s + ")";
+  }
+  // all_of: the first clause that fails; any_of: why each fails.
+  std::string explain(const World& w) const override {
+    if (holds(w, nullptr)) return describe() + " holds";
+    if (all_) {
+      for (const ConditionPtr& c : c_) {
+        if (!c->holds(w, nullptr)) return c->explain(w);
+      }
+    }
+    std::string s = "none of " + std::to_string(c_.size()) + " holds: ";
+    for (size_t i = 0; i < c_.size(); ++i) s += (i ? "; " : "") + c_[i]->explain(w);
+    return s;
   }
   std::optional<Eigen::AlignedBox3d> propose(const World& w, const std::string& object,
                                              std::mt19937_64& rng) const override {
@@ -212,12 +299,20 @@ class Not final : public Condition {
   explicit Not(ConditionPtr c) : c_(std::move(c)) {}
   bool holds(const World& w, const Hypothesis* h) const override { return !c_->holds(w, h); }
   std::string describe() const override { return "not(" + c_->describe() + ")"; }
+  std::string explain(const World& w) const override {
+    return holds(w, nullptr) ? describe() + " holds"
+                             : describe() + ": " + c_->describe() + " holds";
+  }
 
  private:
   ConditionPtr c_;
 };
 
 }  // namespace
+
+std::string Condition::explain(const World& world) const {
+  return describe() + (holds(world, nullptr) ? " holds" : " does not hold");
+}
 
 std::optional<Eigen::AlignedBox3d> Condition::propose(const World&, const std::string&,
                                                       std::mt19937_64&) const {

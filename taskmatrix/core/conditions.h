@@ -51,6 +51,10 @@ class Condition {
   virtual ~Condition() = default;
   virtual bool holds(const World& world, const Hypothesis* hypothesis = nullptr) const = 0;
   virtual std::string describe() const = 0;
+  // Why the condition does not hold now, naming the clause that fails and what was measured
+  // ("above(cup, side_surface): cup's bottom is 4.1 cm below side_surface's top"); for a
+  // condition that holds, describe() + " holds".
+  virtual std::string explain(const World& world) const;
   // A box for `object` that satisfies this condition, drawn with `rng`, if this condition
   // can propose one; conjunctions draw from their generating members and keep draws for
   // which every member holds.

@@ -92,10 +92,26 @@ std::uint32_t Executive::next_seed() {
   return static_cast<std::uint32_t>(z % 0xfffffffeULL) + 1;
 }
 
+template <typename F>
+bool Executive::contained(int id, F&& what) {
+  try {
+    what();
+    return true;
+  } catch (const std::invalid_argument& e) {
+    finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
+  } catch (const std::exception& e) {
+    finish(id, MessageType::kFailed, "program_error: " + instances_.at(id)->name + ": " + e.what());
+  } catch (...) {
+    finish(id, MessageType::kFailed,
+           "program_error: " + instances_.at(id)->name + ": an exception of unknown type");
+  }
+  return false;
+}
+
 void Executive::emit(int id, MessageType type, const std::string& reason,
-                     std::shared_ptr<const PlanResult> plan) {
+                     std::shared_ptr<const PlanResult> plan, const std::string& path) {
   Instance& inst = *instances_.at(id);
-  Message m{skills_.time(), id, inst.name, type, reason, std::move(plan)};
+  Message m{skills_.time(), id, inst.name, type, reason, std::move(plan), path};
   log_.push_back(m);
   if (inst.parent >= 0) {
     const auto parent = instances_.find(inst.parent);
@@ -117,15 +133,13 @@ int Executive::launch(std::unique_ptr<TaskProgram> program, const std::string& n
   self.running = true;
 
   std::vector<std::string> chains;
-  try {
+  const bool claimed = contained(id, [&] {
     const ClaimContext claim{skills_, percepts_,
                              [this](const std::string& c) { return chain_holder_.count(c) > 0; },
                              next_seed()};
     chains = self.program->claim(claim);
-  } catch (const std::invalid_argument& e) {
-    finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
-    return id;
-  }
+  });
+  if (!claimed) return id;
   for (const std::string& c : chains) {
     const auto held = chain_holder_.find(c);
     if (held != chain_holder_.end()) {
@@ -138,21 +152,25 @@ int Executive::launch(std::unique_ptr<TaskProgram> program, const std::string& n
   for (const std::string& c : chains) chain_holder_[c] = id;
   self.chains = chains;
   emit(id, MessageType::kStarted, "");
-  if (ConditionPtr pre = self.program->precondition();
-      pre && !pre->holds(World{skills_, percepts_})) {
-    finish(id, MessageType::kFailed, "precondition_false: " + pre->describe());
+  ConditionPtr pre;
+  bool holds = true;
+  if (!contained(id, [&] {
+        pre = self.program->precondition();
+        holds = !pre || pre->holds(World{skills_, percepts_});
+      })) {
     return id;
   }
-  try {
-    self.program->start(*self.context);
-    self.started = true;
-  } catch (const std::invalid_argument& e) {
-    finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
+  if (!holds) {
+    finish(id, MessageType::kFailed,
+           "precondition_false: " + pre->explain(World{skills_, percepts_}));
+    return id;
   }
+  if (contained(id, [&] { self.program->start(*self.context); })) self.started = true;
   return id;
 }
 
-void Executive::finish(int id, MessageType type, const std::string& reason) {
+void Executive::finish(int id, MessageType type, const std::string& reason,
+                       const std::string& path) {
   Instance& inst = *instances_.at(id);
   if (!inst.running) return;
   for (int child : inst.children) halt(child);
@@ -160,7 +178,7 @@ void Executive::finish(int id, MessageType type, const std::string& reason) {
     const auto it = chain_holder_.find(c);
     if (it != chain_holder_.end() && it->second == id) chain_holder_.erase(it);
   }
-  emit(id, type, reason);
+  emit(id, type, reason, nullptr, path);
   refresh_percepts_ = true;
   inst.running = false;
   inst.outcome = log_.back();
@@ -171,7 +189,7 @@ void Executive::halt(int id) {
   if (it == instances_.end() || !it->second->running) return;
   Instance& inst = *it->second;
   for (int child : inst.children) halt(child);
-  if (inst.started) inst.program->halt(*inst.context);
+  if (inst.started && !contained(id, [&] { inst.program->halt(*inst.context); })) return;
   finish(id, MessageType::kHalted, "");
 }
 
@@ -185,15 +203,12 @@ void Executive::tick() {
   for (int id : ids) {
     Instance& inst = *instances_.at(id);
     if (!inst.running) continue;  // ended by an earlier program's step this tick
-    ProgramState state;
-    try {
-      state = inst.program->step(*inst.context);
-    } catch (const std::invalid_argument& e) {
-      finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
-      continue;
-    }
+    ProgramState state = ProgramState::kRunning;
+    if (!contained(id, [&] { state = inst.program->step(*inst.context); })) continue;
     if (state == ProgramState::kCompleted) finish(id, MessageType::kCompleted, "");
-    if (state == ProgramState::kFailed) finish(id, MessageType::kFailed, inst.program->failure());
+    if (state == ProgramState::kFailed) {
+      finish(id, MessageType::kFailed, inst.program->failure(), inst.program->failure_path());
+    }
   }
   const StepReport step = skills_.advance();
   if (step.unstable) {

@@ -11,6 +11,9 @@
 // guards) see the world as that program left it.
 // Forced termination (halt) stops a program's children first, holds its chains where they
 // are, frees them, and reports "halted".
+// Containment: an exception a program throws (choosing its chains, starting, stepping,
+// halting) fails that program, never the caller: std::invalid_argument as
+// "invalid_input: ...", anything else as "program_error: <program>: <what>".
 #pragma once
 
 #include <cstdint>
@@ -79,9 +82,13 @@ class Executive {
   struct Instance;
   int launch(std::unique_ptr<TaskProgram> program, const std::string& name, int parent);
   void emit(int id, MessageType type, const std::string& reason,
-            std::shared_ptr<const PlanResult> plan = nullptr);
+            std::shared_ptr<const PlanResult> plan = nullptr, const std::string& path = "");
   std::uint32_t next_seed();
-  void finish(int id, MessageType type, const std::string& reason);
+  void finish(int id, MessageType type, const std::string& reason, const std::string& path = "");
+  // Runs `what` (a call into program `id`); an exception fails the program (see above).
+  // Returns false if it threw.
+  template <typename F>
+  bool contained(int id, F&& what);
 
   Skillset& skills_;
   const ProgramRegistry& registry_;

@@ -110,7 +110,8 @@ struct PlanResult {
   unsigned graph_states = 0;
   int plan_calls = 0;   // planner runs behind this result (one per pose tried)
   int goal_index = -1;  // which of several goals (poses, for plan_to_poses) was reached
-  std::string message;
+  std::string message;  // bounded: a summary
+  std::string detail;   // what the summary leaves out (every IK attempt); may be empty
   bool success() const { return status == PlanStatus::kExactSolution; }
 };
 

@@ -37,6 +37,19 @@ size_t Skillset::dof(const std::vector<std::string>& chain_names) const {
   return n;
 }
 
+std::vector<double> Skillset::clamped_configuration(
+    const std::vector<std::string>& chain_names) const {
+  std::vector<double> q = configuration(chain_names);
+  size_t k = 0;
+  for (const std::string& name : chain_names) {
+    const ChainInfo& c = chain(name);
+    for (size_t i = 0; i < c.lower.size() && k < q.size(); ++i, ++k) {
+      q[k] = std::clamp(q[k], c.lower[i], c.upper[i]);
+    }
+  }
+  return q;
+}
+
 const Posture& Skillset::posture(std::string_view name) const {
   const auto it = profile().postures.find(std::string(name));
   if (it == profile().postures.end()) {

@@ -118,6 +118,10 @@ class Skillset {
   size_t dof(const std::vector<std::string>& chain_names) const;
   // Current (simulated or measured) configuration of the chains.
   virtual std::vector<double> configuration(const std::vector<std::string>& chain_names) const = 0;
+  // The same clamped to the chains' joint limits: a joint may rest a hair past a limit (soft
+  // limits in simulation, noise on a robot), which a command may not ask for. What to command
+  // to hold the chains where they are.
+  std::vector<double> clamped_configuration(const std::vector<std::string>& chain_names) const;
   // A named posture of the profile restricted to the chains it names; throws
   // std::invalid_argument for an unknown posture.
   const Posture& posture(std::string_view name) const;
@@ -166,7 +170,8 @@ class Skillset {
   virtual double time() const = 0;            // simulated seconds
   virtual double control_period() const = 0;  // seconds per advance()
   // Position targets for the chains' joints, held until changed. Throws std::invalid_argument
-  // for NaN, wrong sizes or values outside limits. The base moves only through these.
+  // for NaN, wrong sizes or values outside limits (beyond rounding: a value within 1e-6 of a
+  // limit is clamped to it). The base moves only through these.
   virtual void command(const std::vector<std::string>& chain_names,
                        const std::vector<double>& positions,
                        const std::vector<double>& velocities = {},

@@ -179,7 +179,8 @@ class StateMachineProgram final : public TaskProgram {
       failed.time = ctx.time();
       failed.sender = kInvariantSender;
       failed.type = MessageType::kFailed;
-      failed.reason = "invariant_false: " + invariant_->describe() + " (state " + current_ + ")";
+      failed.reason =
+          "invariant_false: " + invariant_->explain(ctx.world()) + " (state " + current_ + ")";
       inbox.push_back(failed);
     }
     for (const Message& m : inbox) {
@@ -191,6 +192,8 @@ class StateMachineProgram final : public TaskProgram {
         if (id == m.sender) source = name;
       }
       if (source.empty()) continue;  // an old child's late message
+      // Where a failure happened: this state (or concurrent program) and the path inside it.
+      const std::string where = step_label(source) + (m.path.empty() ? "" : " > " + m.path);
       const MachineTransition* t = nullptr;
       std::string guards_false;
       for (size_t k = 0; k < spec_.transitions.size(); ++k) {
@@ -211,19 +214,22 @@ class StateMachineProgram final : public TaskProgram {
         if (source == current_ && terminal) {
           // No transition for a failure: the machine fails with the state's reason.
           current_child_ = -1;
-          if (!guards_false.empty()) {
-            stop_concurrent(ctx);
-            return fail("no_transition: " + current_ + " " + to_string(m.type) +
-                        " and no guard holds (" + guards_false + ")");
-          }
           stop_concurrent(ctx);
-          return fail(m.type == MessageType::kFailed ? m.reason
-                                                     : current_ + " " + to_string(m.type));
+          if (!guards_false.empty()) {
+            return fail("no_transition: " + current_ + " " + to_string(m.type) +
+                            " and no guard holds (" + guards_false + ")" +
+                            (m.reason.empty() ? "" : "; it said " + m.reason),
+                        where);
+          }
+          return fail(
+              m.type == MessageType::kFailed ? m.reason : current_ + " " + to_string(m.type),
+              where);
         }
         continue;
       }
       if (source == current_ && terminal) current_child_ = -1;
       last_reason_ = m.reason;
+      last_path_ = m.type == MessageType::kFailed ? where : "";
       for (const std::string& name : t->stop) {
         const auto it = concurrent_ids_.find(name);
         if (it != concurrent_ids_.end()) ctx.halt_child(it->second);
@@ -235,10 +241,19 @@ class StateMachineProgram final : public TaskProgram {
     if (!done_) return ProgramState::kRunning;
     stop_concurrent(ctx);
     if (success_) return ProgramState::kCompleted;
-    return fail(last_reason_.empty() ? "final state " + current_ : last_reason_);
+    if (last_reason_.empty()) return fail("final state " + current_);
+    return fail(last_reason_, last_path_);
   }
 
  private:
+  // A state's or concurrent program's step of a failure path: "program(state)".
+  std::string step_label(const std::string& source) const {
+    if (const MachineState* s = find_state(spec_, source)) return path_step(s->program, source);
+    if (const ConcurrentProgram* c = find_concurrent(spec_, source))
+      return path_step(c->program, source);
+    return source;
+  }
+
   void stop_concurrent(ProgramContext& ctx) {
     for (const auto& [name, id] : concurrent_ids_) ctx.halt_child(id);
     concurrent_ids_.clear();
@@ -272,7 +287,7 @@ class StateMachineProgram final : public TaskProgram {
   int current_child_ = -1;
   std::map<std::string, int> concurrent_ids_;
   bool done_ = false, success_ = false;
-  std::string last_reason_;
+  std::string last_reason_, last_path_;
   std::vector<ConditionPtr> guards_;                // per transition; null: none
   std::map<std::string, ConditionPtr> invariants_;  // by state
   ConditionPtr invariant_;                          // of the current state

@@ -13,7 +13,9 @@
 // Parameters: a machine declares typed parameters; state parameters may refer to them as
 // "$name". Everything is checked when the machine is registered, before anything runs.
 // A state's program failing with no transition for `failed` fails the machine with the
-// same reason; every non-final state must have a transition for `completed`.
+// same reason; every non-final state must have a transition for `completed`. The machine's
+// failure message says where (Message::path): the state, as "program(state)", and the path
+// inside it when its program is itself a machine, e.g. "greet > postural(lower)".
 #pragma once
 
 #include <string>

@@ -73,7 +73,19 @@ struct Message {
   std::string reason;  // for failures: "ik_failure: ...", "collision: ...", ...
   // For kPlanningEnded: the plan's result (status, times, work counts, path).
   std::shared_ptr<const PlanResult> plan;
+  // For failures of a state machine: where in it (and in the machines it runs) the failure
+  // happened, as "state-program(state) > ..." down to the program that failed, e.g.
+  // "greet > postural(lower)"; empty when the program failed itself.
+  std::string path;
 };
+
+// A failure as a user reads it: "<program> > <path>: <reason>" (e.g. "tidy > greet >
+// postural(lower): invalid_goal: ..."), or the reason alone when `program` failed itself.
+std::string failure_text(const std::string& program, const Message& failed);
+// The status of a failure text or reason: its first "word:" after any path ("invalid_goal").
+std::string failure_status(const std::string& text);
+// One step of a path: "program" when the state is named after it, else "program(state)".
+std::string path_step(const std::string& program, const std::string& state);
 
 enum class ProgramState { kRunning, kCompleted, kFailed };
 
@@ -133,15 +145,19 @@ class TaskProgram {
   virtual void halt(ProgramContext& ctx);
   // Why step() returned kFailed: "<status>: <details>".
   const std::string& failure() const { return failure_; }
+  // Where, for a state machine (Message::path).
+  const std::string& failure_path() const { return failure_path_; }
 
  protected:
-  ProgramState fail(std::string reason) {
+  ProgramState fail(std::string reason, std::string path = "") {
     failure_ = std::move(reason);
+    failure_path_ = std::move(path);
     return ProgramState::kFailed;
   }
 
  private:
   std::string failure_;
+  std::string failure_path_;
 };
 
 // ---- The program registry: names to parameter specs and factories.

@@ -70,6 +70,12 @@ TrajectoryFollower::TrajectoryFollower(Skillset& skills, std::vector<std::string
   steps_ = static_cast<int>(std::ceil(motion_.duration / skills_.control_period() - 1e-9));
 }
 
+std::string TrajectoryFollower::collision_pair() const {
+  char depth[48];
+  std::snprintf(depth, sizeof depth, " (depth %.1f mm)", report_.collision->depth_m * 1000);
+  return report_.collision->robot_part + " with " + report_.collision->other + depth;
+}
+
 ExecutionReport TrajectoryFollower::finish(ExecutionStatus status, std::string message) {
   report_.status = status;
   report_.message = std::move(message);
@@ -96,9 +102,8 @@ std::optional<ExecutionReport> TrajectoryFollower::step() {
     if (!hits.empty()) {
       if (!report_.collision) report_.collision = hits.front();
       if (options_.stop_on_collision) {
-        skills_.command(chains_, q);  // hold where it is
-        return finish(ExecutionStatus::kCollision, "collision of " + report_.collision->robot_part +
-                                                       " with " + report_.collision->other);
+        skills_.command(chains_, skills_.clamped_configuration(chains_));  // hold where it is
+        return finish(ExecutionStatus::kCollision, "collision of " + collision_pair());
       }
     }
   }
@@ -117,7 +122,7 @@ std::optional<ExecutionReport> TrajectoryFollower::step() {
   report_.final_error = max_abs_difference(skills_.configuration(chains_), motion_.goal);
   if (report_.final_error <= options_.position_tolerance) {
     return finish(report_.collision ? ExecutionStatus::kCollision : ExecutionStatus::kCompleted,
-                  report_.collision ? "touched " + report_.collision->other : "");
+                  report_.collision ? "touched on the way: " + collision_pair() : "");
   }
   if (skills_.time() >= settle_until_ - 1e-12) {
     char buf[128];

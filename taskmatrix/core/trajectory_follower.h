@@ -41,6 +41,8 @@ class TrajectoryFollower {
 
  private:
   ExecutionReport finish(ExecutionStatus status, std::string message);
+  // "<robot part> with <other> (depth d mm)" of the first collision seen.
+  std::string collision_pair() const;
 
   Skillset& skills_;
   std::vector<std::string> chains_;

@@ -106,6 +106,13 @@ core::Pose body_pose(const mjData* d, int body) {
 
 }  // namespace
 
+Eigen::AlignedBox3d geom_box(const mjModel* m, const mjData* d, int geom) {
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  if (m->geom_type[geom] != mjGEOM_PLANE) add_geom(m, d, geom, box);
+  return box;
+}
+
 Eigen::AlignedBox3d surface_box(const mjModel* m, const mjData* d, int body) {
   const double top = d->xpos[3 * body + 2];
   Eigen::AlignedBox3d box;

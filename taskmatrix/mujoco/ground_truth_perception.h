@@ -11,6 +11,9 @@
 
 namespace taskmatrix::mujoco {
 
+// World-aligned bounding box of one geom, from the data's current poses (planes: empty).
+Eigen::AlignedBox3d geom_box(const mjModel* m, const mjData* d, int geom);
+
 // World-aligned bounding box of a body's geoms (of the body only, or of its whole subtree),
 // from the data's current poses. Empty (isEmpty()) if the body has no geoms.
 Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool subtree);

@@ -15,6 +15,9 @@ namespace taskmatrix::mujoco {
 namespace {
 
 constexpr double kLimitSlack = 1e-9;
+// A command this far past a limit is rounding (of arithmetic on the limit's value) and is
+// clamped to it; further is an error of the caller.
+constexpr double kCommandTolerance = 1e-6;
 
 std::string body_name(const mjModel* m, int body) {
   const char* name = mj_id2name(m, mjOBJ_BODY, body);
@@ -270,6 +273,18 @@ void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
   forget_obstacles();
   mj_forward(worker_.model(), worker_.data());
   if (execution_ == ExecutionMode::kKinematic) settle_free_objects();
+}
+
+void MujocoSkillset::apply_layout(const core::TrialLayout& layout) {
+  require_no_query("apply_layout");
+  worker_.apply_variation(layout.variation);
+  const mjModel* m = worker_.model();
+  for (Debris& flake : debris_) {  // where the variation put them
+    flake.pos = Eigen::Vector3d(m->body_pos[3 * flake.body], m->body_pos[3 * flake.body + 1],
+                                m->body_pos[3 * flake.body + 2]);
+  }
+  apply_layout(layout.obstacles);
+  reset();
 }
 
 void MujocoSkillset::set_obstacles_need_perception(bool need) {
@@ -614,7 +629,9 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
   refresh_supports();
   core::PlanResult total;
   total.status = core::PlanStatus::kIkFailure;
-  std::string ik_reasons;
+  std::string ik_reasons;  // every pose's IK failure: the detail
+  int unreachable = 0, in_collision = 0, best_pose = -1;
+  double best_position = 0, best_angle = 0;
   bool any_planned = false;
   for (size_t k = 0; k < targets.size(); ++k) {
     sync_query();
@@ -630,6 +647,15 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
     if (solved.status != core::IkStatus::kSolved) {
       ik_reasons += (ik_reasons.empty() ? "" : "; ") + std::string("pose ") + std::to_string(k) +
                     ": " + core::to_string(solved.status) + " (" + solved.reason + ")";
+      (solved.status == core::IkStatus::kInCollision ? in_collision : unreachable) += 1;
+      const bool better =
+          best_pose < 0 || solved.position_error_m < best_position ||
+          (solved.position_error_m == best_position && solved.orientation_error_rad < best_angle);
+      if (better) {
+        best_pose = static_cast<int>(k);
+        best_position = solved.position_error_m;
+        best_angle = solved.orientation_error_rad;
+      }
       continue;
     }
     MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_, touch);
@@ -654,7 +680,17 @@ core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
       return total;
     }
   }
-  if (!any_planned) total.message = "no target pose has an IK solution: " + ik_reasons;
+  if (!any_planned) {
+    // A summary of bounded length; every attempt is in `detail`.
+    char best[160];
+    std::snprintf(best, sizeof best, "; the closest, pose %d, ended %.1f cm and %.1f deg off",
+                  best_pose, best_position * 100, best_angle * 180 / M_PI);
+    total.message = "no target pose has an IK solution: " + std::to_string(targets.size()) +
+                    (targets.size() == 1 ? " pose" : " poses") + " tried (" +
+                    std::to_string(unreachable) + " unreachable, " + std::to_string(in_collision) +
+                    " with every solution in collision)" + (best_pose >= 0 ? best : "");
+    total.detail = ik_reasons;
+  }
   return total;
 }
 
@@ -718,7 +754,7 @@ void MujocoSkillset::command(const std::vector<std::string>& chain_names,
   const mjModel* m = worker_.model();
   for (size_t i = 0; i < joints.size(); ++i) {
     const double lo = m->jnt_range[2 * joints[i]], hi = m->jnt_range[2 * joints[i] + 1];
-    if (positions[i] < lo - kLimitSlack || positions[i] > hi + kLimitSlack) {
+    if (positions[i] < lo - kCommandTolerance || positions[i] > hi + kCommandTolerance) {
       char buf[200];
       std::snprintf(buf, sizeof buf,
                     "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]", positions[i],

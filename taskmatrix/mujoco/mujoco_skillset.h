@@ -92,6 +92,9 @@ class MujocoSkillset final : public core::Skillset {
   // Backend set-up, for the harness: obstacles of a layout, and the start state (robot at the
   // environment's start in the rest posture, targets there, time 0, nothing attached).
   void apply_layout(const core::ObstacleLayout& layout);
+  // A trial's whole drawn world (task variation, then obstacles; WorkerScene::apply), then
+  // reset() into its start state.
+  void apply_layout(const core::TrialLayout& layout);
   void reset();
   // Whether obstacle slot `slot` holds an obstacle of the applied layout.
   bool obstacle_active(int slot) const { return slot >= 0 && slot < obstacle_count_; }

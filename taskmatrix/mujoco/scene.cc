@@ -316,8 +316,10 @@ void Scene::index_and_validate() {
         throw InputError(efile, "objects." + obj_name,
                          "body '" + body + "' is not in " + environment_.model_file.string());
       }
-      if (obj.kind != core::ObjectKind::kSurface)
+      if (obj.kind != core::ObjectKind::kSurface) {
         object_footprints_.push_back(footprint_of_body(b, "objects." + obj_name));
+        object_footprint_bodies_.push_back(b);
+      }
     }
     for (const std::string* site : {&obj.tip_site, &obj.grip_site}) {
       if (!site->empty() && mj_name2id(m, mjOBJ_SITE, site->c_str()) < 0) {
@@ -332,6 +334,7 @@ void Scene::index_and_validate() {
       throw InputError(efile, "visitor.body",
                        "body '" + environment_.visitor.body + "' is missing");
     object_footprints_.push_back(footprint_of_body(b, "visitor.body"));
+    object_footprint_bodies_.push_back(b);
   }
   for (const std::string& cam : environment_.cameras) {
     if (mj_name2id(m, mjOBJ_CAMERA, cam.c_str()) < 0) {
@@ -373,6 +376,7 @@ void Scene::index_and_validate() {
   start_qpos_[base.qpos_adr[2]] = environment_.robot_start.yaw;
   apply_posture("rest", start_qpos_.data());
   check_head_camera(*this, pfile);
+  index_variations();
 }
 
 std::optional<GeomPair> Scene::collidable_pair(int g1, int g2) const {
@@ -508,13 +512,14 @@ core::ObstacleLayout Scene::make_layout(int count, std::uint64_t seed) const {
 WorkerScene::WorkerScene(std::shared_ptr<const Scene> scene)
     : scene_(std::move(scene)),
       model_(copy_model(scene_->model())),
-      data_(make_data(model_.get())) {
+      data_(make_data(model_.get())),
+      start_qpos_(scene_->start_qpos()) {
   reset_to_start();
 }
 
 void WorkerScene::reset_to_start() {
   mj_resetData(model_.get(), data_.get());
-  std::copy(scene_->start_qpos().begin(), scene_->start_qpos().end(), data_->qpos);
+  std::copy(start_qpos_.begin(), start_qpos_.end(), data_->qpos);
   mj_forward(model_.get(), data_.get());
 }
 

@@ -15,6 +15,7 @@
 #include "taskmatrix/core/environment_spec.h"
 #include "taskmatrix/core/obstacle_layout.h"
 #include "taskmatrix/core/robot_profile.h"
+#include "taskmatrix/core/task_variation.h"
 #include "taskmatrix/mujoco/mujoco_handles.h"
 
 namespace taskmatrix::mujoco {
@@ -101,6 +102,27 @@ class Scene {
   core::LayoutRequest layout_request(const core::ObstacleOptions& options) const;
   core::ObstacleLayout make_layout(const core::ObstacleOptions& options, std::uint64_t seed) const;
 
+  // Task variations (core/task_variation.h). What the generator knows of this scene: every
+  // surface (top, height, placement area: the environment's obstacle region on it, or its top
+  // less 3 cm, fixtures on it kept out), every task object (debris flakes by body name) and the
+  // robot's start, as compiled.
+  const core::WorldGeometry& world_geometry() const { return world_; }
+  // The robot's footprint radius at its start (horizontal reach of its geoms from the base
+  // origin), counting only geoms whose lowest point is below `below_z`.
+  double robot_footprint_radius(double below_z) const;
+  // The obstacle request in the world a variation leaves: regions on moved surfaces at their
+  // new heights, the drawn start disk, objects protected where they now are, and the
+  // scenario's targeted obstacles as groups. Without variation and targeted obstacles it is
+  // layout_request(options).
+  core::LayoutRequest layout_request(const core::ObstacleOptions& options,
+                                     const core::TaskVariation& variation) const;
+  // Draws the variation, then the obstacles in the world it leaves. Throws
+  // core::LayoutError with a key (of the scenario's variation or targeted obstacles at fault)
+  // or core::InputError (the environment's regions cannot hold the random obstacles).
+  core::TrialLayout make_trial_layout(const core::ObstacleOptions& obstacles,
+                                      const core::VariationOptions& variation,
+                                      std::uint64_t seed) const;
+
  private:
   Scene() = default;
   void index_and_validate();
@@ -118,6 +140,31 @@ class Scene {
   std::vector<int> hand_of_body_;
   std::vector<double> start_qpos_;
   std::vector<core::Rect2> object_footprints_;
+
+  // Task variations: made at load by index_variations() (variation_apply.cc).
+  friend class WorkerScene;
+  void index_variations();
+  // A surface that can move up and down: its body subtree and how each geom stretches.
+  struct SurfaceRig {
+    std::string name;
+    int body = -1;
+    double height = 0;  // of the top face, as compiled
+    double cut = 0;     // below this, geoms stretch with the height; above, they move rigidly
+    std::vector<int> geoms;
+    std::vector<double> bottom, top;  // each geom's world z extent, as compiled
+    std::vector<char> stretches;      // an upright box, cylinder or capsule
+  };
+  // A free body or static debris flake resting on a surface, moving with it.
+  struct RestingBody {
+    size_t surface = 0;  // index into surface_rigs_
+    int body = -1;
+    int qpos_adr = -1;  // a free joint's position; -1: a body without joints (body_pos moves)
+  };
+  core::WorldGeometry world_;
+  std::vector<SurfaceRig> surface_rigs_;
+  std::vector<RestingBody> resting_;
+  std::vector<std::pair<double, double>> robot_geom_reach_;  // (horizontal reach, lowest z)
+  std::vector<int> object_footprint_bodies_;                 // parallel to object_footprints_
 };
 
 class WorkerScene {
@@ -134,7 +181,19 @@ class WorkerScene {
   // of the obstacle's shape is given size, pose, collision and visibility; every other slot
   // geom is disabled. Throws core::LayoutError if there are more obstacles than slots.
   void apply_layout(const core::ObstacleLayout& layout);
-  // qpos = scene().start_qpos(), zero velocities, then mj_forward.
+  // Writes a task variation into this worker's model copy and start state, starting from the
+  // compiled model each time (an empty variation restores it). A surface's body moves by its
+  // height change; its geoms map heights z in [0, cut] (the floor to the bottom of its top
+  // slab) to z (cut + shift) / cut and move rigidly above the cut, so legs and cabinets keep
+  // standing on the floor; what rests on it (free bodies, debris) moves with it. Placed objects
+  // and the robot's base get their drawn poses in the start state. Takes effect on the next
+  // reset_to_start(). Throws core::VariationError for a height the surface cannot take.
+  void apply_variation(const core::TaskVariation& variation);
+  // Both, the variation first.
+  void apply(const core::TrialLayout& layout);
+  // The start state: scene().start_qpos() as the applied variation changes it.
+  const std::vector<double>& start_qpos() const { return start_qpos_; }
+  // qpos = start_qpos(), zero velocities, then mj_forward.
   void reset_to_start();
   // Contacts after the last mj_forward/mj_collision in which a robot geom takes part.
   std::vector<RobotContact> robot_contacts() const;
@@ -143,6 +202,7 @@ class WorkerScene {
   std::shared_ptr<const Scene> scene_;
   ModelPtr model_;
   DataPtr data_;
+  std::vector<double> start_qpos_;
 };
 
 }  // namespace taskmatrix::mujoco

@@ -60,10 +60,10 @@ class Fixate final : public core::TaskProgram {
   void start(core::ProgramContext& ctx) override {
     core::Skillset& skills = ctx.skills();
     camera_ = skills.head_camera().frame;
-    head_ = skills.configuration({"head"});
+    head_ = skills.clamped_configuration({"head"});
     start_time_ = ctx.time();
     if (base_) {
-      base_cmd_ = skills.configuration({"base"});
+      base_cmd_ = skills.clamped_configuration({"base"});
       if (base_cmd_.size() != 3) {
         failure_ = "invalid_input: the base chain is not planar (x, y, yaw)";
       }
@@ -84,7 +84,8 @@ class Fixate final : public core::TaskProgram {
     const std::vector<double> goal = look_at(skills, head, target);
     for (size_t i = 0; i < head_.size(); ++i) {
       const double step = head.speed.velocity * dt;
-      head_[i] += std::clamp(goal[i] - head_[i], -step, step);
+      head_[i] = std::clamp(head_[i] + std::clamp(goal[i] - head_[i], -step, step), head.lower[i],
+                            head.upper[i]);
     }
     skills.command({"head"}, head_);
 

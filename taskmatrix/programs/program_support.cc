@@ -92,15 +92,7 @@ ChainValues posture_values(const core::Skillset& skills, const std::string& post
 
 std::vector<double> clamped_configuration(const core::Skillset& skills,
                                           const std::vector<std::string>& chains) {
-  std::vector<double> q = skills.configuration(chains);
-  size_t k = 0;
-  for (const std::string& name : chains) {
-    const core::ChainInfo& c = skills.chain(name);
-    for (size_t i = 0; i < c.lower.size() && k < q.size(); ++i, ++k) {
-      q[k] = std::clamp(q[k], c.lower[i], c.upper[i]);
-    }
-  }
-  return q;
+  return skills.clamped_configuration(chains);
 }
 
 double max_difference(const std::vector<double>& a, const std::vector<double>& b) {

@@ -47,6 +47,17 @@ TEST_P(ConditionsTest, NearAndAboveOnHandMadeBoxes) {
   EXPECT_FALSE(all_of({near("a", "ghost"), above("a", "c")})->holds(world()));
   EXPECT_EQ(all_of({near("a", "b"), negate(above("a", "c"))})->describe(),
             "all_of(near(a, b, 0.1), not(above(a, c)))");
+  // Why a condition is false: the clause that fails and what was measured.
+  EXPECT_EQ(near("a", "b", 0.04)->explain(world()), "near(a, b, 0.04): a is 5.0 cm from b");
+  EXPECT_EQ(above("a", "b")->explain(world()), "above(a, b): a is not over b");
+  EXPECT_EQ(above("c", "a")->explain(world()), "above(c, a): c's bottom is 60.0 cm below a's top");
+  EXPECT_EQ(near("a", "ghost")->explain(world()),
+            "near(a, ghost, 0.1): ghost unknown to the perceptual model");
+  EXPECT_EQ(all_of({above("a", "c"), near("a", "b", 0.04)})->explain(world()),
+            "near(a, b, 0.04): a is 5.0 cm from b");
+  EXPECT_EQ(any_of({above("a", "b"), negate(above("a", "c"))})->explain(world()),
+            "none of 2 holds: above(a, b): a is not over b; not(above(a, c)): above(a, c) holds");
+  EXPECT_EQ(above("a", "c")->explain(world()), "above(a, c) holds");
 }
 
 TEST_P(ConditionsTest, TheCupStandsOnTheWorkSurfaceAtTheStart) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/io/machine_file.h"
@@ -53,8 +55,30 @@ class Sweep final : public TaskProgram {
   std::vector<double> q0_;
 };
 
+// Holds its chains; throws `what` from step() after `after` ticks.
+class Thrower final : public TaskProgram {
+ public:
+  explicit Thrower(const Params& p) : chains_(p.list("chains")), after_(p.number("after")) {}
+  std::vector<std::string> chains(const Skillset&) const override { return chains_; }
+  void start(ProgramContext&) override {}
+  ProgramState step(ProgramContext&) override {
+    if (ticks_++ >= after_) throw std::runtime_error("the test program threw");
+    return ProgramState::kRunning;
+  }
+
+ private:
+  std::vector<std::string> chains_;
+  double after_;
+  int ticks_ = 0;
+};
+
 ProgramRegistry test_registry() {
   ProgramRegistry r;
+  r.add({"thrower",
+         "test program that throws",
+         {{"chains", ParamType::kStringList, true, {}, {}, ""},
+          {"after", ParamType::kNumber, false, 5.0, {}, ""}},
+         [](const Params& p) { return std::make_unique<Thrower>(p); }});
   r.add({"sweep",
          "test program",
          {{"chains", ParamType::kStringList, true, {}, {}, ""},
@@ -155,7 +179,10 @@ TEST_P(ExecutiveTest, ForcedTerminationFreesTheChainsAtOnce) {
 TEST_P(ExecutiveTest, APreconditionThatIsFalseFailsTheProgramBeforeItRuns) {
   const int a = exec_->start("wait_for_wave", {});
   ASSERT_NE(exec_->outcome(a), nullptr);
-  EXPECT_EQ(exec_->outcome(a)->reason, "precondition_false: postural(wave_start)");
+  // The reason says which joint is how far from the posture.
+  const std::string reason = exec_->outcome(a)->reason;
+  EXPECT_EQ(reason.rfind("precondition_false: postural(wave_start): joint ", 0), 0u) << reason;
+  EXPECT_NE(reason.find(" from the posture (tolerance "), std::string::npos) << reason;
   EXPECT_EQ(exec_->holder_of_chain("head"), -1);
 }
 
@@ -185,15 +212,52 @@ TEST_P(ExecutiveTest, BadParametersAreRejectedBeforeAnythingRuns) {
   EXPECT_NE(exec_->outcome(a)->reason.find("invalid_input: "), std::string::npos);
 }
 
+TEST_P(ExecutiveTest, AProgramThatThrowsFailsWithProgramErrorAndTheOthersRunOn) {
+  const int bad = exec_->start("thrower", {{"chains", "[head]"}});
+  const int good =
+      exec_->start("sweep", {{"chains", "[left_arm]"}, {"duration", "0.5"}, {"delta", "0.1"}});
+  EXPECT_TRUE(exec_->run(5.0));
+  ASSERT_NE(exec_->outcome(bad), nullptr);
+  EXPECT_EQ(exec_->outcome(bad)->type, MessageType::kFailed);
+  EXPECT_EQ(exec_->outcome(bad)->reason, "program_error: thrower: the test program threw");
+  EXPECT_EQ(exec_->holder_of_chain("head"), -1);
+  EXPECT_EQ(exec_->outcome(good)->type, MessageType::kCompleted);
+}
+
+// Puts every joint of `chain` `past` radians (or metres) beyond its upper limit, as a joint
+// that settled on a soft limit is measured.
+void push_past_upper_limits(mujoco::MujocoSkillset& skills, const std::string& chain, double past) {
+  const mjModel* m = skills.model();
+  mjData* d = const_cast<mjData*>(skills.sim_data());
+  const ChainInfo& c = skills.chain(chain);
+  for (size_t i = 0; i < c.joints.size(); ++i) {
+    const int j = mj_name2id(m, mjOBJ_JOINT, c.joints[i].c_str());
+    ASSERT_GE(j, 0) << c.joints[i];
+    d->qpos[m->jnt_qposadr[j]] = c.upper[i] + past;
+    d->qvel[m->jnt_dofadr[j]] = 0;
+  }
+  mj_forward(m, d);
+}
+
+TEST_P(ExecutiveTest, HaltingAChainAHairPastItsLimitHoldsItAtTheLimit) {
+  const int a = exec_->start("sweep", {{"chains", "[head]"}, {"duration", "30"}});
+  for (int k = 0; k < 5; ++k) exec_->tick();
+  push_past_upper_limits(*skills_, "head", 1e-4);
+  exec_->halt(a);
+  EXPECT_EQ(exec_->outcome(a)->type, MessageType::kHalted) << exec_->outcome(a)->reason;
+  EXPECT_EQ(skills_->clamped_configuration({"head"}), skills_->chain("head").upper);
+}
+
 MachineSpec two_step_machine(const std::string& second_outcome) {
   MachineSpec m;
   m.name = "two_step";
   m.params = {{"arm", ParamType::kStringList, true, {}, {}, ""}};
-  m.states = {{"first", "sweep", {{"chains", "$arm"}, {"delta", "0.1"}}, false, true, ""},
-              {"second", "sweep", {{"chains", "[head]"}, {"outcome", second_outcome}}, false, true, ""},
-              {"recover", "sweep", {{"chains", "[torso]"}}, false, true, ""},
-              {"done", "", {}, true, true, ""},
-              {"gave_up", "", {}, true, false, ""}};
+  m.states = {
+      {"first", "sweep", {{"chains", "$arm"}, {"delta", "0.1"}}, false, true, ""},
+      {"second", "sweep", {{"chains", "[head]"}, {"outcome", second_outcome}}, false, true, ""},
+      {"recover", "sweep", {{"chains", "[torso]"}}, false, true, ""},
+      {"done", "", {}, true, true, ""},
+      {"gave_up", "", {}, true, false, ""}};
   m.initial = "first";
   m.transitions = {{"first", MessageType::kCompleted, "second", {}, {}, ""},
                    {"second", MessageType::kCompleted, "done", {}, {}, ""},
@@ -237,6 +301,45 @@ TEST_P(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) 
   const int id = exec_->start("two_step", {{"arm", "[left_arm]"}});
   EXPECT_TRUE(exec_->run(10.0));
   EXPECT_EQ(exec_->outcome(id)->reason, "test_failure: asked to fail");
+  EXPECT_EQ(exec_->outcome(id)->path, "sweep(second)");
+}
+
+TEST_P(ExecutiveTest, AnInvariantThatStopsHoldingSaysWhatWasMeasured) {
+  MachineSpec m = two_step_machine("completed");
+  m.states[0].params["delta"] = "0.5";
+  m.states[0].invariant = "postural(rest)";
+  register_machine(m, registry_);
+  const int id = exec_->start("two_step", {{"arm", "[left_arm]"}});
+  EXPECT_TRUE(exec_->run(10.0));
+  const Message& failed = *exec_->outcome(id);
+  EXPECT_EQ(failed.type, MessageType::kFailed);
+  EXPECT_EQ(failed.reason.rfind("invariant_false: postural(rest): joint ", 0), 0u) << failed.reason;
+  EXPECT_NE(failed.reason.find(" from the posture (tolerance "), std::string::npos)
+      << failed.reason;
+  EXPECT_EQ(failed.path, "sweep(first)");
+}
+
+TEST_P(ExecutiveTest, AFailureInANestedMachineNamesThePathToTheStateThatFailed) {
+  MachineSpec inner = two_step_machine("failed");
+  inner.transitions.erase(inner.transitions.begin() + 2);  // no "second failed" transition
+  register_machine(inner, registry_);
+  MachineSpec outer;
+  outer.name = "outer";
+  outer.states = {{"inner", "two_step", {{"arm", "[right_arm]"}}, false, true, ""},
+                  {"end", "", {}, true, true, ""}};
+  outer.initial = "inner";
+  outer.transitions = {{"inner", MessageType::kCompleted, "end", {}, {}, ""}};
+  register_machine(outer, registry_);
+  const int id = exec_->start("outer", {});
+  EXPECT_TRUE(exec_->run(10.0));
+  const Message& failed = *exec_->outcome(id);
+  EXPECT_EQ(failed.type, MessageType::kFailed);
+  EXPECT_EQ(failed.reason, "test_failure: asked to fail");
+  EXPECT_EQ(failed.path, "two_step(inner) > sweep(second)");
+  const std::string text = failure_text("outer", failed);
+  EXPECT_EQ(text, "outer > two_step(inner) > sweep(second): test_failure: asked to fail");
+  EXPECT_EQ(failure_status(text), "test_failure");
+  EXPECT_EQ(failure_status("ik_failure: no pose: 3 tried"), "ik_failure");
 }
 
 TEST_P(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {

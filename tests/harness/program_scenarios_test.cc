@@ -10,6 +10,7 @@
 
 #include "harness/scenario.h"
 #include "harness/trial.h"
+#include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"
@@ -162,6 +163,33 @@ TEST_P(ProgramBehaviourTest, PickupOutOfReachFailsWithTheReason) {
   EXPECT_EQ(r.status, "ik_failure") << r.failure_reason;
   EXPECT_NE(r.failure_reason.find("reaches none of"), std::string::npos) << r.failure_reason;
   EXPECT_LT(r.duration_s, 1.0);  // it gave up at once, and nothing was left running
+}
+
+TEST_P(ProgramBehaviourTest, AFailureInsideAMachineNamesTheStatesItFailedIn) {
+  core::ProgramRegistry programs = registry();
+  core::MachineSpec fetch;
+  fetch.name = "fetch";
+  fetch.states = {
+      {"approach", "pickup", {{"object", "visitor"}, {"step", "false"}}, false, true, ""},
+      {"done", "", {}, true, true, ""}};
+  fetch.initial = "approach";
+  fetch.transitions = {{"approach", core::MessageType::kCompleted, "done", {}, {}, ""}};
+  core::register_machine(fetch, programs);
+  Scenario s = program_scenario("pickup");
+  s.run.program = "fetch";
+  s.run.params.clear();
+  s.success.clear();
+  const TrialResult r = run_trial(s, test::scene(GetParam().robot, GetParam().environment),
+                                  s.layout_seed, s.seed, programs);
+  EXPECT_EQ(r.status, "ik_failure") << r.failure_reason;
+  EXPECT_EQ(r.failure_reason.rfind("fetch > pickup(approach) > reach: ik_failure: ", 0), 0u)
+      << r.failure_reason;
+  // The machine's failed event carries the same path.
+  const auto failed = std::find_if(r.events.begin(), r.events.end(), [](const TrialEvent& e) {
+    return e.program == "fetch" && e.type == "failed";
+  });
+  ASSERT_NE(failed, r.events.end());
+  EXPECT_EQ(failed->path, "pickup(approach) > reach");
 }
 
 INSTANTIATE_TEST_SUITE_P(BothRobots, ProgramBehaviourTest, ::testing::ValuesIn(scenario_pairs()),

@@ -142,6 +142,12 @@ TEST_P(SkillsetOnBothRobots, IkReachesSampledPosesAndReportsUnreachableOnes) {
   const core::PlanResult p = skills().plan_to_poses(chains, palm, {far}, plan, quick);
   EXPECT_EQ(p.status, core::PlanStatus::kIkFailure) << p.message;
   EXPECT_NE(p.message.find("no target pose has an IK solution"), std::string::npos);
+  // A summary (how many poses, how close the best came); every attempt is in the detail.
+  EXPECT_NE(p.message.find("1 pose tried (1 unreachable, 0 with every solution in collision)"),
+            std::string::npos)
+      << p.message;
+  EXPECT_NE(p.message.find("the closest, pose 0, ended "), std::string::npos) << p.message;
+  EXPECT_EQ(p.detail.rfind("pose 0: unreachable (", 0), 0u) << p.detail;
   EXPECT_EQ(p.plan_calls, 0);
   EXPECT_GT(p.ik_time_s, 0);
 }
@@ -284,6 +290,30 @@ TEST_P(SkillsetOnBothRobots, NanAndOutOfLimitInputsAreRejectedWithTheJointNamed)
             core::PlanStatus::kInvalidInput);
   // Nothing moved.
   EXPECT_EQ(skills().configuration(chains), q);
+}
+
+TEST_P(SkillsetOnBothRobots, AJointAHairPastItsLimitIsHeldAtTheLimitNeverRejected) {
+  const Chains chains = {"left_arm"};
+  const core::ChainInfo& arm = skills().chain("left_arm");
+  std::vector<double> q = skills().configuration(chains);
+  // Rounding on a limit's value is clamped; anything further is the caller's error.
+  q[2] = arm.upper[2] + 1e-7;
+  EXPECT_NO_THROW(skills().command(chains, q));
+  q[2] = arm.upper[2] + 1e-4;
+  EXPECT_THROW(skills().command(chains, q), std::invalid_argument);
+
+  // The joint settled 0.1 mrad past its limit (a soft limit): holding it where it is commands
+  // the limit.
+  const mjModel* m = skills_->model();
+  mjData* d = const_cast<mjData*>(skills_->sim_data());
+  const int joint = mj_name2id(m, mjOBJ_JOINT, arm.joints[2].c_str());
+  d->qpos[m->jnt_qposadr[joint]] = arm.upper[2] + 1e-4;
+  mj_forward(m, d);
+  EXPECT_GT(skills().configuration(chains)[2], arm.upper[2]);
+  const std::vector<double> hold = skills().clamped_configuration(chains);
+  EXPECT_EQ(hold[2], arm.upper[2]);
+  EXPECT_THROW(skills().command(chains, skills().configuration(chains)), std::invalid_argument);
+  EXPECT_NO_THROW(skills().command(chains, hold));
 }
 
 TEST_P(SkillsetOnBothRobots, QueriesNeverDisturbTheSimulation) {

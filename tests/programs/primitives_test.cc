@@ -151,15 +151,46 @@ TEST_P(PrimitivesTest, FailuresNameTheirReason) {
   const std::string visitor = reason("reach", {{"object", "visitor"}});
   EXPECT_EQ(visitor.rfind("not_graspable: ", 0), 0u) << visitor;
   EXPECT_NE(visitor.find("aperture"), std::string::npos) << visitor;
-  EXPECT_EQ(reason("grasp", {{"object", "cup"}, {"side", "left"}}),
-            "precondition_false: graspable(cup, left)");
-  EXPECT_EQ(reason("release", {{"object", "cup"}}), "precondition_false: grasping(cup)");
+  // A false precondition says what was measured.
+  const std::string not_graspable = reason("grasp", {{"object", "cup"}, {"side", "left"}});
+  EXPECT_EQ(
+      not_graspable.rfind("precondition_false: graspable(cup, left): the nearest palm is ", 0), 0u)
+      << not_graspable;
+  EXPECT_NE(not_graspable.find(" from cup's grasp point (at most 3.0 cm)"), std::string::npos)
+      << not_graspable;
+  EXPECT_EQ(reason("release", {{"object", "cup"}}),
+            "precondition_false: grasping(cup): no hand holds cup");
   EXPECT_EQ(reason("postural", {{"posture", "cartwheel"}}),
             "invalid_input: robot '" + skills_->profile().name + "' has no posture 'cartwheel'");
   EXPECT_EQ(reason("canned", {{"motion", "moonwalk"}}),
             "invalid_input: robot '" + skills_->profile().name +
                 "' has no canned motion 'moonwalk' (it has: bow, wave)");
   EXPECT_FALSE(executive_->any_running());
+}
+
+TEST_P(PrimitivesTest, FixateFromAHeadAHairPastItsLimitsRunsAndHalts) {
+  // Every head joint settled 0.1 mrad past its upper limit, as on a soft limit.
+  const mjModel* m = skills_->model();
+  mjData* d = const_cast<mjData*>(skills_->sim_data());
+  const core::ChainInfo& head = skills_->chain("head");
+  auto push_past_limits = [&] {
+    for (size_t i = 0; i < head.joints.size(); ++i) {
+      const int j = mj_name2id(m, mjOBJ_JOINT, head.joints[i].c_str());
+      d->qpos[m->jnt_qposadr[j]] = head.upper[i] + 1e-4;
+      d->qvel[m->jnt_dofadr[j]] = 0;
+    }
+    mj_forward(m, d);
+  };
+  push_past_limits();
+  const core::Message timed = run("fixate", {{"object", "cup"}, {"duration", "0.2"}});
+  EXPECT_EQ(timed.type, MessageType::kCompleted) << timed.reason;
+  // Halted while the head sits past its limits: it holds at them, nothing fails.
+  const int id = executive_->start("fixate", {{"object", "cup"}});
+  for (int k = 0; k < 3; ++k) executive_->tick();
+  push_past_limits();
+  executive_->halt(id);
+  ASSERT_NE(executive_->outcome(id), nullptr);
+  EXPECT_EQ(executive_->outcome(id)->type, MessageType::kHalted) << executive_->outcome(id)->reason;
 }
 
 TEST_P(PrimitivesTest, APostureOrMotionInsideAnObstacleIsAnInvalidGoal) {
