@@ -99,6 +99,19 @@ std::vector<std::string> planner_names() {
   return names;
 }
 
+bool planner_optimizes_paths(const std::string& name) {
+  const auto factory = factories().find(name);
+  if (factory == factories().end()) return false;
+  std::lock_guard<std::mutex> lock(planning_mutex());
+  use_quiet_output();
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  space->setBounds(0.0, 1.0);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  si->setStateValidityChecker([](const ob::State*) { return true; });
+  si->setup();
+  return factory->second(si)->getSpecs().optimizingPaths;
+}
+
 std::string check_planner_spec(const PlannerSpec& spec) {
   const auto factory = factories().find(spec.name);
   if (factory == factories().end()) {
