@@ -455,7 +455,9 @@ FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string&
       std::atan2(base.y() - target.y(), base.x() - target.x()) * 180 / std::numbers::pi + 35;
   close.azimuth = std::fmod(close.azimuth + 360, 360);
   close.elevation = -25;
+  // Drawn through the view its --camera text describes, so that the text reproduces it.
   out.close_up_camera = lookat_camera_text(close);
+  parse_lookat(out.close_up_camera, close);
 
   replay->show(frame);
   mujoco::OffscreenRenderer renderer(scene.model(), options.width, options.height);
