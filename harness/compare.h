@@ -82,8 +82,9 @@ struct PairedGroup {
   // Verdicts against the thresholds, e.g. "success 100% -> 67% (McNemar p = 0.031)".
   std::vector<std::string> regressions, improvements;
   // Changes that would be regressions but are by design: more planning time and checks by a
-  // planner that optimizes until its time limit and stayed within it (with no more planner
-  // runs than the base).
+  // planner that optimizes until its time limit and stayed within it (with no more plan
+  // calls than the base; a call that runs the planner for several goal poses has the limit
+  // for each).
   std::vector<std::string> by_design;
   // Path quality over the pairs where both succeeded (harness/path_quality.h); significant
   // changes as phrases (reported, not judged).
