@@ -325,6 +325,24 @@ std::string number(double v) {
 
 }  // namespace
 
+namespace {
+
+// The replay's current frame through `view`, as PNG file bytes.
+std::vector<std::uint8_t> render_png(mujoco::OffscreenRenderer& renderer, Replay& replay,
+                                     const mujoco::CameraView& view) {
+  const mujoco::RgbImage image =
+      renderer.render_rgb(replay.worker().model(), replay.worker().data(), view);
+  std::vector<std::uint8_t> png;
+  const unsigned err = lodepng::encode(png, image.pixels, static_cast<unsigned>(image.width),
+                                       static_cast<unsigned>(image.height), LCT_RGB, 8);
+  if (err != 0) {
+    throw std::runtime_error(std::string("cannot encode PNG: ") + lodepng_error_text(err));
+  }
+  return png;
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> trial_snapshot_png(const ModelCatalog& catalog,
                                              const std::string& run_dir_and_trial, double time_s,
                                              const FrameOptions& options) {
@@ -336,15 +354,7 @@ std::vector<std::uint8_t> trial_snapshot_png(const ModelCatalog& catalog,
   const size_t frame = time_s < 0 ? replay->frames() - 1 : replay->frame_at(time_s);
   replay->show(frame);
   mujoco::OffscreenRenderer renderer(replay->scene().model(), options.width, options.height);
-  const mujoco::RgbImage image =
-      renderer.render_rgb(replay->worker().model(), replay->worker().data(), view);
-  std::vector<std::uint8_t> png;
-  const unsigned err = lodepng::encode(png, image.pixels, static_cast<unsigned>(image.width),
-                                       static_cast<unsigned>(image.height), LCT_RGB, 8);
-  if (err != 0) {
-    throw std::runtime_error(std::string("cannot encode PNG: ") + lodepng_error_text(err));
-  }
-  return png;
+  return render_png(renderer, *replay, view);
 }
 
 namespace {
@@ -461,19 +471,8 @@ FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string&
 
   replay->show(frame);
   mujoco::OffscreenRenderer renderer(scene.model(), options.width, options.height);
-  const auto png_of = [&](const mujoco::CameraView& view) {
-    const mujoco::RgbImage image =
-        renderer.render_rgb(replay->worker().model(), replay->worker().data(), view);
-    std::vector<std::uint8_t> png;
-    const unsigned err = lodepng::encode(png, image.pixels, static_cast<unsigned>(image.width),
-                                         static_cast<unsigned>(image.height), LCT_RGB, 8);
-    if (err != 0) {
-      throw std::runtime_error(std::string("cannot encode PNG: ") + lodepng_error_text(err));
-    }
-    return png;
-  };
-  out.overview = png_of(overview);
-  out.close_up = png_of(close);
+  out.overview = render_png(renderer, *replay, overview);
+  out.close_up = render_png(renderer, *replay, close);
   return out;
 }
 

@@ -264,6 +264,18 @@ TEST(CompareTrials, TheHtmlReportListsTheTrialsWhoseOutcomeChanged) {
   EXPECT_NE(md.find("pickup > grasp"), std::string::npos);
 }
 
+TEST(CompareTrials, TwoPlannersRunsPairedWithoutThePlannerShowNoEmptyRows) {
+  const auto base = run_of(4, [](int i) { return trial("reach", "tallbot", i, true, 0.02, 50); });
+  const auto fresh =
+      run_of(4, [](int i) { return trial("reach", "tallbot", i, true, 0.5, 400, "BITstar"); });
+  const Comparison c = compare_trials(base, fresh, false, {});
+  EXPECT_EQ(c.overall.pairs, 4);
+  const std::string html = compare_html(c, base, fresh, nullptr, nullptr, {}, 0);
+  EXPECT_NE(html.find("RRTConnect · base (4)"), std::string::npos);
+  EXPECT_NE(html.find("BITstar · new (4)"), std::string::npos);
+  EXPECT_EQ(html.find("(0)"), std::string::npos);
+}
+
 TEST(CompareTrials, WorkCountsAreExactAndMoreChecksFail) {
   const auto base = run_of(6, [](int i) { return trial("reach", "tallbot", i, true, 0.01, 1000); });
   const auto more = run_of(
