@@ -7,8 +7,10 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "harness/compare_sections.h"
 #include "harness/json_input.h"
 #include "harness/paired_stats.h"
+#include "harness/report_table.h"
 #include "harness/trial_record.h"
 
 namespace taskmatrix::harness {
@@ -103,8 +105,10 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
   for (const char* f : kWorkFields) g.work.push_back(work[f]);
 }
 
-void judge(PairedGroup& g, const CompareThresholds& t) {
+void judge(PairedGroup& g, const CompareThresholds& t, bool within_budget_by_design = false) {
   if (g.pairs == 0) return;
+  // More time and checks from a planner that spends its budget by design are no regression.
+  std::vector<std::string>& costlier = within_budget_by_design ? g.by_design : g.regressions;
   const double base_rate = static_cast<double>(g.base_successes) / g.pairs;
   const double new_rate = static_cast<double>(g.new_successes) / g.pairs;
   const std::string success =
@@ -123,7 +127,7 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
         printf_string("planning time x%.2f (95%% CI %.2f..%.2f, %.0f pairs; Wilcoxon p ",
                       g.time_ratio, g.time_ratio_low, g.time_ratio_high, g.time_pairs) +
         p_value_phrase(g.wilcoxon_p) + ")";
-    if (g.time_ratio_low > t.max_time_ratio) g.regressions.push_back(time);
+    if (g.time_ratio_low > t.max_time_ratio) costlier.push_back(time);
     if (g.time_ratio_high < 1.0 / t.max_time_ratio) g.improvements.push_back(time);
   }
   if (t.exact_work) {
@@ -147,8 +151,8 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
     if (w.field != "collision_checks") continue;
     if (w.base_total <= 0) {
       if (w.new_total > 0) {
-        g.regressions.push_back(printf_string("collision checks 0 -> %.0f (%.0f trials changed)",
-                                              w.new_total, w.changed_trials));
+        costlier.push_back(printf_string("collision checks 0 -> %.0f (%.0f trials changed)",
+                                         w.new_total, w.changed_trials));
       }
       continue;
     }
@@ -156,12 +160,111 @@ void judge(PairedGroup& g, const CompareThresholds& t) {
     const std::string work =
         printf_string("collision checks x%.2f (%.0f -> %.0f; %.0f trials changed)", ratio,
                       w.base_total, w.new_total, w.changed_trials);
-    if (ratio > t.max_work_ratio) g.regressions.push_back(work);
+    if (ratio > t.max_work_ratio) costlier.push_back(work);
     if (ratio < 1.0 / t.max_work_ratio) g.improvements.push_back(work);
   }
 }
 
+// Whether the new trials' planner optimizes until its time limit (every new trial's), kept
+// every plan call within that limit (where the scenario's limit is known), and the programs
+// asked for no more plans than in the base: then more time and more checks are its design.
+bool within_budget_by_design(const std::vector<Pair>& pairs, const PlannerBudgets& budgets) {
+  if (pairs.empty() || budgets.anytime_planners.empty()) return false;
+  double base_calls = 0, new_calls = 0;
+  for (const Pair& p : pairs) {
+    if (!budgets.anytime_planners.count(text(*p.fresh, "planner_name"))) return false;
+    const auto limit = budgets.plan_time_limit_s.find(text(*p.fresh, "scenario"));
+    const auto plans = p.fresh->find("plans");
+    if (limit != budgets.plan_time_limit_s.end() && plans != p.fresh->end() && plans->is_array()) {
+      for (const nlohmann::json& call : *plans) {
+        // A call may run the planner several times (one per candidate goal pose), each with
+        // the limit. OMPL checks its clock between iterations: allow an iteration's overshoot.
+        const double runs = number(call, "planner_runs");
+        const double budget = limit->second * (std::isfinite(runs) && runs > 1 ? runs : 1);
+        if (number(call, "planning_time_s") > budget * 1.1 + 0.02) return false;
+      }
+    }
+    const double cb = number(*p.base, "plan_calls"), cn = number(*p.fresh, "plan_calls");
+    if (std::isfinite(cb) && std::isfinite(cn)) {
+      base_calls += cb;
+      new_calls += cn;
+    }
+  }
+  return new_calls <= base_calls;
+}
+
+std::string failure_text(const nlohmann::json& t) {
+  const std::string where = failure_location(t), reason = text(t, "failure_reason");
+  const std::string why = reason.empty() ? text(t, "status") : reason;
+  return where.empty() || why.find(where) != std::string::npos ? why : where + ": " + why;
+}
+
+// What the group's numbers do not judge: path quality, power, and where trials failed.
+void describe(PairedGroup& g, const std::vector<Pair>& pairs, const CompareThresholds& t) {
+  std::vector<TrialPair> trial_pairs;
+  for (const Pair& p : pairs) {
+    trial_pairs.push_back({p.base, p.fresh});
+    if (!p.base->value("success", false)) ++g.base_failures[failure_text(*p.base)];
+    if (!p.fresh->value("success", false)) ++g.new_failures[failure_text(*p.fresh)];
+  }
+  g.path_quality = compare_path_quality(trial_pairs);
+  g.path_findings = path_quality_findings(g.path_quality);
+  std::vector<double> log_ratios;
+  for (size_t i = 0; i < g.base_planning_s.size(); ++i) {
+    log_ratios.push_back(std::log(g.new_planning_s[i] / g.base_planning_s[i]));
+  }
+  g.power = group_power(g.pairs, g.base_successes, log_ratios, t.min_time_pairs, t.alpha,
+                        t.power_success_target,
+                        t.power_time_target > 0 ? t.power_time_target : t.max_time_ratio);
+}
+
 }  // namespace
+
+std::string failure_location(const nlohmann::json& trial) {
+  // A reason that names its path: "tidy > greet > postural(rest): invalid_goal: ...".
+  const std::string reason = text(trial, "failure_reason");
+  for (size_t start = 0; start < reason.size();) {
+    const size_t end = std::min(reason.find(": ", start), reason.size());
+    const std::string segment = reason.substr(start, end - start);
+    if (segment.find(" > ") != std::string::npos) return segment;
+    start = end + 2;
+  }
+  // Else the programs that failed with the first failure's reason, outermost first.
+  const auto events = trial.find("events");
+  if (events == trial.end() || !events->is_array()) return "";
+  std::vector<std::string> chain;
+  std::string first_reason;
+  for (const nlohmann::json& e : *events) {
+    if (!e.is_object() || text(e, "type") != "failed") continue;
+    const std::string why = text(e, "reason");
+    if (chain.empty()) {
+      first_reason = why;
+    } else if (why.find(first_reason) == std::string::npos) {
+      continue;
+    }
+    chain.push_back(text(e, "program"));
+  }
+  std::string path;
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+    path += (path.empty() ? "" : " > ") + *it;
+  }
+  return path;
+}
+
+std::string no_change_text(const PairedGroup& g, const CompareThresholds& t) {
+  const GroupPower& p = g.power;
+  if (!std::isfinite(p.success_change)) {
+    return printf_string(
+        "no significant change (underpowered: no success change is detectable with %.0f pairs)",
+        g.pairs);
+  }
+  if (p.success_change > t.max_success_drop + 1e-9) {
+    return "no significant change (underpowered: only a success " +
+           std::string(p.success_rise ? "rise" : "drop") + " of " + success_change_text(p) +
+           " or more was detectable)";
+  }
+  return "no significant change";
+}
 
 std::string p_value_text(double p) {
   if (!std::isfinite(p)) return "-";
@@ -189,7 +292,7 @@ std::string pairing_key(const nlohmann::json& trial, bool with_planner) {
 
 Comparison compare_trials(const std::vector<nlohmann::json>& base,
                           const std::vector<nlohmann::json>& fresh, bool with_planner,
-                          const CompareThresholds& thresholds) {
+                          const CompareThresholds& thresholds, const PlannerBudgets& budgets) {
   Comparison c;
   c.thresholds = thresholds;
   auto index = [&](const std::vector<nlohmann::json>& trials, const char* side) {
@@ -235,8 +338,10 @@ Comparison compare_trials(const std::vector<nlohmann::json>& base,
         .push_back(pair);
     const bool bs = b->value("success", false), ns = n->value("success", false);
     if (bs != ns) {
-      c.flips.push_back(
-          {text(*b, "trial_id"), text(*n, "trial_id"), text(*b, "status"), text(*n, "status"), ns});
+      const nlohmann::json& failed = ns ? *b : *n;
+      c.flips.push_back({text(*b, "trial_id"), text(*n, "trial_id"), text(*b, "status"),
+                         text(*n, "status"), ns, failure_location(failed),
+                         text(failed, "failure_reason")});
     }
   }
   for (const auto& [key, n] : new_by_key) {
@@ -251,12 +356,14 @@ Comparison compare_trials(const std::vector<nlohmann::json>& base,
     PairedGroup g;
     std::tie(g.scenario, g.program, g.robot, g.environment, g.base_planner, g.new_planner) = key;
     measure(g, pairs);
-    judge(g, thresholds);
+    judge(g, thresholds, within_budget_by_design(pairs, budgets));
+    describe(g, pairs, thresholds);
     c.groups.push_back(std::move(g));
   }
   c.overall.scenario = "all";
   measure(c.overall, all);
-  judge(c.overall, thresholds);
+  judge(c.overall, thresholds, within_budget_by_design(all, budgets));
+  describe(c.overall, all, thresholds);
   if (thresholds.fail_on_unpaired && !c.only_in_new.empty()) {
     c.overall.regressions.push_back(
         printf_string("%.0f trials of the new run have no partner in the base",
@@ -318,16 +425,26 @@ nlohmann::json group_json(const PairedGroup& g) {
   j["paths"] = {{"pairs", g.path_pairs}, {"changed_trials", g.changed_paths}};
   j["regressions"] = g.regressions;
   j["improvements"] = g.improvements;
+  j["within_budget_by_design"] = g.by_design;
+  j["path_quality"] = path_quality_json(g.path_quality);
+  j["path_findings"] = g.path_findings;
+  j["power"] = group_power_json(g.power);
+  j["failures"] = {{"base", g.base_failures}, {"new", g.new_failures}};
   return j;
 }
 
-std::string verdict(const PairedGroup& g) {
+std::string verdict(const PairedGroup& g, const CompareThresholds& t) {
   std::string v;
   for (const std::string& r : g.regressions) v += (v.empty() ? "**regression**: " : "; ") + r;
+  std::string design;
+  for (const std::string& r : g.by_design) {
+    design += (design.empty() ? std::string(kByDesign) + ": " : "; ") + r;
+  }
+  if (!design.empty()) v += (v.empty() ? "" : "; ") + design;
   std::string better;
   for (const std::string& r : g.improvements) better += (better.empty() ? "better: " : "; ") + r;
   if (!better.empty()) v += (v.empty() ? "" : "; ") + better;
-  return v.empty() ? "-" : v;
+  return v.empty() ? no_change_text(g, t) : v;
 }
 
 std::string success_cell(const PairedGroup& g) {
@@ -380,7 +497,9 @@ nlohmann::json comparison_json(const Comparison& c) {
                           {"new_id", f.new_id},
                           {"base_status", f.base_status},
                           {"new_status", f.new_status},
-                          {"now_succeeds", f.now_succeeds}});
+                          {"now_succeeds", f.now_succeeds},
+                          {"where", f.where},
+                          {"reason", f.reason}});
   }
   return j;
 }
@@ -440,9 +559,7 @@ std::string comparison_markdown(const Comparison& c) {
           printf_string(" %.0f trials changed", w.changed_trials) +
           (w.missing > 0 ? printf_string("; %.0f pairs without it", w.missing) : "") + " |\n";
   }
-  const std::string overall = verdict(o);
-  md += "\nOverall: " + (overall == "-" ? std::string("no significant change") : overall) +
-        "\n\n## Per group\n\n";
+  md += "\nOverall: " + verdict(o, t) + "\n\n## Per group\n\n";
   md +=
       "| scenario | robot | environment | planner | success | McNemar p | planning time ratio "
       "(95% CI) | Wilcoxon p | collision checks | plan calls | verdict |\n"
@@ -454,20 +571,16 @@ std::string comparison_markdown(const Comparison& c) {
           markdown_cell(g.environment) + " | " + markdown_cell(planner) + " | " + success_cell(g) +
           " | " + p_value_text(g.mcnemar_p) + " | " + time_cell(g) + " | " +
           p_value_text(g.wilcoxon_p) + " | " + work_cell(g, "collision_checks") + " | " +
-          work_cell(g, "plan_calls") + " | " + verdict(g) + " |\n";
+          work_cell(g, "plan_calls") + " | " + verdict(g, t) + " |\n";
   }
   if (!c.flips.empty()) {
-    md += "\n## Trials whose outcome changed\n\n| trial | base | new |\n|---|---|---|\n";
-    for (const Comparison::Flip& f : c.flips) {
-      const std::string id = f.base_id == f.new_id ? f.base_id : f.base_id + " / " + f.new_id;
-      md += "| " + markdown_cell(id) + " | " + markdown_cell(f.base_status) + " | " +
-            markdown_cell(f.new_status) + " |\n";
-    }
+    md += "\n## Trials whose outcome changed\n\n" + markdown_table(flips_table(c));
   }
   if (!c.nonreproducible.empty()) {
     md += "\n## Pairs a clock bound decided\n\n";
     for (const std::string& p : c.nonreproducible) md += "- " + markdown_cell(p) + "\n";
   }
+  md += comparison_sections_markdown(c);
   if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
     md += "\n## Unpaired trials\n\n";
     for (const std::string& id : c.only_in_base) {

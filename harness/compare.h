@@ -13,11 +13,15 @@
 #pragma once
 
 #include <functional>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "harness/path_quality.h"
+#include "harness/power.h"
 #include "harness/summary.h"
 
 namespace taskmatrix::harness {
@@ -45,6 +49,19 @@ struct CompareThresholds {
   // Work counts and planned paths must repeat exactly (same build, same seeds: they do, under
   // any load): a pair whose counts or path digests differ is a regression.
   bool exact_work = false;
+  // Not thresholds: the changes the power section says how many trials would detect (a drop
+  // of success_target points; a planning-time ratio of time_target, 0: max_time_ratio).
+  double power_success_target = 0.10;
+  double power_time_target = 0;
+};
+
+// What the new run's planners were given, for telling a planner that spends its time budget
+// by design from a slower one: the OMPL names of the planners that optimize until their time
+// limit (harness/planner_comparison.h finds them), and the time limit of a plan call per
+// scenario (absent: not recorded).
+struct PlannerBudgets {
+  std::set<std::string> anytime_planners;
+  std::map<std::string, double> plan_time_limit_s;
 };
 
 struct WorkCountChange {
@@ -74,6 +91,19 @@ struct PairedGroup {
   int path_pairs = 0, changed_paths = 0;
   // Verdicts against the thresholds, e.g. "success 100% -> 67% (McNemar p = 0.031)".
   std::vector<std::string> regressions, improvements;
+  // Changes that would be regressions but are by design: more planning time and checks by a
+  // planner that optimizes until its time limit and stayed within it (with no more plan
+  // calls than the base; a call that runs the planner for several goal poses has the limit
+  // for each).
+  std::vector<std::string> by_design;
+  // Path quality over the pairs where both succeeded (harness/path_quality.h); significant
+  // changes as phrases (reported, not judged).
+  std::vector<PathQualityChange> path_quality;
+  std::vector<std::string> path_findings;
+  // How small a change this group could have detected (harness/power.h).
+  GroupPower power;
+  // Failed trials by where and why (failure_location: reason), per run.
+  std::map<std::string, int> base_failures, new_failures;
 };
 
 struct Comparison {
@@ -86,6 +116,8 @@ struct Comparison {
   struct Flip {
     std::string base_id, new_id, base_status, new_status;
     bool now_succeeds = false;
+    // The failing trial's failure_location (where in its programs it failed) and reason.
+    std::string where, reason;
   };
   std::vector<Flip> flips;
   // Pairs left out because a clock bound decided a trial: "base id / new id: what".
@@ -98,9 +130,16 @@ std::string pairing_key(const nlohmann::json& trial, bool with_planner);
 
 // Pairs `base` and `fresh` trials by pairing_key(trial, with_planner) and compares them.
 // Trials whose key appears twice on one side throw std::invalid_argument.
+// `budgets`: what the new run's planners were given (empty: no change is by design).
 Comparison compare_trials(const std::vector<nlohmann::json>& base,
                           const std::vector<nlohmann::json>& fresh, bool with_planner,
-                          const CompareThresholds& thresholds);
+                          const CompareThresholds& thresholds, const PlannerBudgets& budgets = {});
+
+// Where in its programs a failed trial failed, e.g. "pickup > grasp": the path its failure
+// reason names ("tidy > greet > postural(rest): invalid_goal: ..."), else the programs whose
+// failed events carry the first failure's reason, outermost first; "" when no program failed
+// (a crash, a timeout, a success criterion that does not hold).
+std::string failure_location(const nlohmann::json& trial);
 
 nlohmann::json comparison_json(const Comparison& c);
 
@@ -109,5 +148,12 @@ nlohmann::json comparison_json(const Comparison& c);
 std::string p_value_text(double p);
 std::string p_value_phrase(double p);
 std::string comparison_markdown(const Comparison& c);
+
+// How a by-design change is introduced in verdicts.
+inline constexpr const char* kByDesign = "slower, within budget by design";
+// The verdict of a group without a significant change: "no significant change", and when the
+// group could not have detected a success drop of t.max_success_drop, that it was underpowered
+// and what it could have detected.
+std::string no_change_text(const PairedGroup& g, const CompareThresholds& t);
 
 }  // namespace taskmatrix::harness

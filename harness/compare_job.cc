@@ -7,8 +7,10 @@
 #include <set>
 #include <stdexcept>
 
+#include "harness/compare_sections.h"
 #include "harness/html_report.h"
 #include "harness/json_input.h"
+#include "harness/planner_comparison.h"
 #include "harness/trial_record.h"
 #include "taskmatrix/core/input_error.h"
 
@@ -26,6 +28,20 @@ nlohmann::json read_provenance(const std::filesystem::path& dir) {
   if (!p.is_object()) throw InputError(file.string(), "", "must be a JSON object");
   return p;
 }
+
+}  // namespace
+
+std::string shell_word(const std::string& s) {
+  const bool plain = !s.empty() && s.find_first_not_of(
+                                       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                       "0123456789_./:=,+-") == std::string::npos;
+  if (plain) return s;
+  std::string out = "'";
+  for (char ch : s) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return out + "'";
+}
+
+namespace {
 
 std::vector<TrialSnapshot> snapshots(const CompareJobOptions& o,
                                      const std::vector<nlohmann::json>& base,
@@ -65,9 +81,21 @@ std::vector<TrialSnapshot> snapshots(const CompareJobOptions& o,
     s.trial_id = (*t)["trial_id"].get<std::string>();
     s.status = t->value("status", std::string());
     s.reason = t->value("failure_reason", std::string());
+    s.where = failure_location(*t);
+    const std::string trial =
+        std::filesystem::absolute(is_new ? o.new_dir : o.base_dir).lexically_normal().string() +
+        ":" + s.trial_id;
     if (o.snapshot) {
       try {
-        s.png = o.snapshot((is_new ? o.new_dir : o.base_dir).string() + ":" + s.trial_id);
+        FailurePictures pictures = o.snapshot(trial, failure_time(*t));
+        s.png = std::move(pictures.overview);
+        s.close_up = std::move(pictures.close_up);
+        s.time_s = pictures.time_s;
+        s.focus = pictures.focus;
+        const std::string render = o.render_command + " render --trial " + shell_word(trial);
+        s.commands = {render + " --video " + shell_word(s.trial_id + ".mp4"),
+                      render + " --video " + shell_word(s.trial_id + "-closeup.mp4") +
+                          " --camera " + shell_word(pictures.close_up_camera)};
       } catch (const std::exception& e) {
         s.note = std::string("no picture: ") + e.what();
       }
@@ -92,7 +120,28 @@ std::string console_text(const Comparison& c) {
   return text;
 }
 
+// The "What ran" section of compare.md.
+std::string provenance_markdown(const ProvenanceDiff& d) {
+  const ReportTable table = provenance_diff_table(d);
+  return "\n## What ran\n\n" +
+         (table.rows.empty()
+              ? std::string("The same build loaded the same model and scenario files.\n")
+              : markdown_table(table));
+}
+
 }  // namespace
+
+double failure_time(const nlohmann::json& trial) {
+  const auto events = trial.find("events");
+  if (events == trial.end() || !events->is_array()) return -1;
+  for (const nlohmann::json& e : *events) {
+    if (e.is_object() && e.value("type", std::string()) == "failed" && e.contains("t") &&
+        e["t"].is_number()) {
+      return e["t"].get<double>();
+    }
+  }
+  return -1;
+}
 
 std::vector<nlohmann::json> read_run_trials(const std::filesystem::path& run_dir,
                                             std::vector<std::string>* warnings) {
@@ -138,8 +187,10 @@ CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) 
   const nlohmann::json new_provenance = read_provenance(o.new_dir);
   for (const std::string& w : warnings) std::cerr << "taskmatrix: warning: " << w << "\n";
   CompareJobResult r;
+  r.differences = diff_provenance(base_provenance, new_provenance);
   try {
-    r.comparison = compare_trials(base, fresh, !o.ignore_planner, o.thresholds);
+    r.comparison = compare_trials(base, fresh, !o.ignore_planner, o.thresholds,
+                                  planner_budgets(new_provenance));
   } catch (const std::invalid_argument& e) {
     throw InputError(
         (o.base_dir / "trials.jsonl").string() + ", " + (o.new_dir / "trials.jsonl").string(), "",
@@ -167,18 +218,26 @@ CompareJobResult run_compare_job(const CompareJobOptions& o, std::ostream& out) 
                          ": the runs hold different scenarios, robots, environments or seeds" +
                          hint);
   }
-  out << console_text(c);
+  const std::string warning = provenance_warning(r.differences);
+  out << warning << console_text(c);
+  if (o.print_power) {
+    out << "\nStatistical power: " << power_method(c) << "\n\n" << markdown_table(power_table(c));
+  }
   if (!o.report_dir.empty()) {
     std::filesystem::create_directories(o.report_dir);
     int left_out = 0;
     const std::vector<TrialSnapshot> pictures = snapshots(o, base, fresh, left_out);
+    std::string md = comparison_markdown(c);
+    if (!warning.empty()) md.insert(md.find("\n\n") + 2, "```\n" + warning + "```\n\n");
+    md += provenance_markdown(r.differences);
+    nlohmann::json j = comparison_json(c);
+    j["provenance_differences"] = provenance_diff_json(r.differences);
     r.report = o.report_dir / "report.html";
     // The three files of a report are replaced together: never a mix of two comparisons.
-    write_files_atomically(
-        {{o.report_dir / "compare.md", comparison_markdown(c)},
-         {o.report_dir / "compare.json", json_text(comparison_json(c), 2) + "\n"},
-         {r.report,
-          compare_html(c, base, fresh, base_provenance, new_provenance, pictures, left_out)}});
+    write_files_atomically({{o.report_dir / "compare.md", md},
+                            {o.report_dir / "compare.json", json_text(j, 2) + "\n"},
+                            {r.report, compare_html(c, base, fresh, base_provenance, new_provenance,
+                                                    pictures, left_out, &r.differences)}});
     out << "report: " << r.report.string() << " (" << pictures.size()
         << " failed trials pictured)\n";
   }

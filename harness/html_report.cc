@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "harness/compare_sections.h"
 #include "harness/json_input.h"
 #include "harness/svg_plot.h"
 
@@ -35,6 +36,11 @@ th{background:#f2f2f2}tr.bad td{background:#fde8e8}tr.good td{background:#e8f6e8
 .card{border:1px solid #ccc;border-radius:4px;padding:6px;width:340px;font-size:12px}
 .card img{width:100%;display:block}.card .id{font-family:monospace;word-break:break-all}
 figure{margin:10px 0}figcaption{font-size:13px;color:#555;margin-bottom:4px}
+tr.design td{background:#fdf6dc}.warning{background:#fdf0c4;border:1px solid #e0c060;
+padding:8px 12px;border-radius:4px;font-size:14px;white-space:pre-wrap}
+.card.wide{width:560px}.shots{display:flex;gap:6px}.shots figure{margin:0;flex:1}
+.shots figcaption{font-size:11px}pre.cmd{font-size:11px;background:#f6f6f6;padding:4px;
+white-space:pre-wrap;word-break:break-all;margin:4px 0}
 </style>)";
 
 std::string fmt(const char* format, double v) { return format_number(format, v); }
@@ -53,15 +59,19 @@ std::string work_total(const PairedGroup& g, const std::string& field) {
   return "-";
 }
 
-std::string verdict_text(const PairedGroup& g) {
+std::string verdict_text(const PairedGroup& g, const CompareThresholds& t) {
   std::string v;
   for (const std::string& r : g.regressions) v += "<b>regression</b>: " + html_escape(r) + "<br>";
+  for (const std::string& r : g.by_design) {
+    v += std::string("<i>") + kByDesign + "</i>: " + html_escape(r) + "<br>";
+  }
   for (const std::string& r : g.improvements) v += "better: " + html_escape(r) + "<br>";
-  return v.empty() ? "-" : v;
+  return v.empty() ? html_escape(no_change_text(g, t)) : v;
 }
 
 std::string row_class(const PairedGroup& g) {
   if (!g.regressions.empty()) return " class='bad'";
+  if (!g.by_design.empty()) return " class='design'";
   if (!g.improvements.empty()) return " class='good'";
   return "";
 }
@@ -100,8 +110,7 @@ std::string overall_table(const Comparison& c, const std::string& base_name,
             std::to_string(w.changed_trials) + " trials changed") +
          "</tr>";
   }
-  const std::string verdict = verdict_text(o);
-  return s + "</table><p>Overall: " + (verdict == "-" ? "no significant change" : verdict) + "</p>";
+  return s + "</table><p>Overall: " + verdict_text(o, c.thresholds) + "</p>";
 }
 
 std::string group_table(const Comparison& c) {
@@ -118,7 +127,7 @@ std::string group_table(const Comparison& c) {
             std::to_string(g.new_successes) + "/" + std::to_string(g.pairs)) +
          td(p_text(g.mcnemar_p)) + td(time_text(g)) + td(p_text(g.wilcoxon_p)) +
          td(work_total(g, "collision_checks")) + td(work_total(g, "plan_calls")) +
-         td(verdict_text(g)) + "</tr>";
+         td(verdict_text(g, c.thresholds)) + "</tr>";
   }
   return s + "</table>";
 }
@@ -153,8 +162,20 @@ std::string provenance_line(const nlohmann::json& p) {
          html_escape(valid_utf8(v->is_string() ? v->get<std::string>() : json_text(*v)));
   };
   auto field = [&](const char* key) { return p.contains(key) ? &p[key] : nullptr; };
-  add("commit", field("git_commit"));
-  add("dirty", field("git_dirty"));
+  add("built from commit", field("git_commit"));
+  add("with local changes", field("git_dirty"));
+  if (p.contains("root") && p["root"].is_object()) {
+    const nlohmann::json& r = p["root"];
+    add("models from", r.contains("path") ? &r["path"] : nullptr);
+    if (r.contains("git_commit") && r["git_commit"].is_null()) {
+      s += " (not a git checkout)";
+    } else {
+      add("at commit", r.contains("git_commit") ? &r["git_commit"] : nullptr);
+    }
+  }
+  if (p.contains("model_files") && p["model_files"].is_array()) {
+    s += "; " + std::to_string(p["model_files"].size()) + " model files hashed";
+  }
   add("OMPL", field("ompl_version"));
   add("MuJoCo", field("mujoco_version"));
   add("started", field("started_at"));
@@ -164,13 +185,70 @@ std::string provenance_line(const nlohmann::json& p) {
   return s;
 }
 
+// Rows of planning-time distributions: one per planner and run that has trials.
+void add_distribution_rows(std::vector<DistributionRow>& rows,
+                           const std::vector<nlohmann::json>& trials, const std::string& label,
+                           const std::string& colour) {
+  for (const std::string& p : planners_of(trials)) {
+    std::vector<double> times = planning_times(trials, p);
+    if (times.empty()) continue;
+    rows.push_back({p + " · " + label, colour, std::move(times)});
+  }
+}
+
+// Path quality, power, failures by group and changed trials: the sections both reports share.
+std::string detail_sections(const Comparison& c, const std::string& level) {
+  const std::string h2 = "<" + level + ">", h2_end = "</" + level + ">";
+  std::string h;
+  if (!c.flips.empty()) {
+    h += h2 + "Trials whose outcome changed" + h2_end + html_table(flips_table(c));
+  }
+  const ReportTable failures = failures_table(c);
+  if (!failures.rows.empty()) {
+    h += h2 + "Failures by group" + h2_end +
+         "<p class='meta'>Where each failed trial failed (its programs, outermost first) and "
+         "why.</p>" +
+         html_table(failures);
+  }
+  h += h2 + "Path quality" + h2_end + "<p class='meta'>" + html_escape(path_quality_method(c)) +
+       "</p>";
+  std::vector<ChangeRow> changes;
+  const auto add_changes = [&](const std::string& name, const PairedGroup& g, bool all) {
+    for (const PathQualityChange& q : g.path_quality) {
+      if (q.pairs < 2 || !std::isfinite(q.percent()) || (!all && !q.significant())) continue;
+      const double scale = 100 / q.base_mean;
+      changes.push_back({name + ": " + q.name, q.mean_change * scale, q.change_low * scale,
+                         q.change_high * scale, q.significant() ? (q.better() ? 1 : -1) : 0});
+    }
+  };
+  add_changes("all pairs", c.overall, true);
+  for (const PairedGroup& g : c.groups) add_changes(group_name(g), g, false);
+  if (!changes.empty()) {
+    h += "<figure><figcaption>Mean paired change new - base in % of the base mean, with 95% "
+         "intervals: every measure over all pairs, then each group's significant ones (green: "
+         "better, red: worse).</figcaption>" +
+         svg_changes(changes, "change new - base (% of base mean)") + "</figure>";
+  }
+  h += html_table(path_quality_table(c));
+  h += h2 + "Statistical power" + h2_end + "<p class='meta'>" + html_escape(power_method(c)) +
+       "</p>" + html_table(power_table(c));
+  return h;
+}
+
+std::string shell_block(const std::vector<std::string>& commands) {
+  std::string h;
+  for (const std::string& cmd : commands) h += "<pre class='cmd'>" + html_escape(cmd) + "</pre>";
+  return h;
+}
+
 }  // namespace
 
 std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>& base,
                          const std::vector<nlohmann::json>& fresh,
                          const nlohmann::json& base_provenance,
                          const nlohmann::json& new_provenance,
-                         const std::vector<TrialSnapshot>& snapshots, int snapshots_left_out) {
+                         const std::vector<TrialSnapshot>& snapshots, int snapshots_left_out,
+                         const ProvenanceDiff* differences) {
   const CompareThresholds& t = c.thresholds;
   std::string h = "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Compare " +
                   html_escape(c.base_label) + " → " + html_escape(c.new_label) + "</title>" +
@@ -181,6 +259,10 @@ std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>&
        "<br>new: " + provenance_line(new_provenance) + "</p>";
   h += c.regression() ? "<p class='verdict bad'>Regression</p>"
                       : "<p class='verdict ok'>No regression</p>";
+  if (differences != nullptr) {
+    const std::string warning = provenance_warning(*differences);
+    if (!warning.empty()) h += "<div class='warning'>" + html_escape(warning) + "</div>";
+  }
   h += "<p class='meta'>" + std::to_string(c.overall.pairs) + " trials paired by id";
   if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
     h += " (" + std::to_string(c.only_in_base.size()) + " only in the base, " +
@@ -202,12 +284,8 @@ std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>&
   h += "<h2>Planning time per trial, by planner</h2><figure><figcaption>Every trial that "
        "planned; box: quartiles and median.</figcaption>";
   std::vector<DistributionRow> rows;
-  std::set<std::string> planners = planners_of(base);
-  for (const std::string& p : planners_of(fresh)) planners.insert(p);
-  for (const std::string& p : planners) {
-    rows.push_back({p + " · base", kBaseColour, planning_times(base, p)});
-    rows.push_back({p + " · new", series_colour(0), planning_times(fresh, p)});
-  }
+  add_distribution_rows(rows, base, "base", kBaseColour);
+  add_distribution_rows(rows, fresh, "new", series_colour(0));
   h += svg_distributions(rows, "planning time per trial (s, log scale)") + "</figure>";
 
   h += "<h2>Success rate by group</h2><figure><figcaption>Wilson 95% intervals.</figcaption>";
@@ -242,34 +320,48 @@ std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>&
   h += svg_scatter(points, robots, "base planning time (s)", "new planning time (s)") + "</figure>";
 
   h += "<h2>Per group</h2>" + group_table(c);
-  if (!c.flips.empty()) {
-    h += "<h2>Trials whose outcome changed</h2><table><tr><th>trial</th><th>base</th>"
-         "<th>new</th></tr>";
-    for (const Comparison::Flip& f : c.flips) {
-      h += std::string("<tr class='") + (f.now_succeeds ? "good" : "bad") + "'>" +
-           td("<code>" + html_escape(f.new_id) + "</code>") + td(html_escape(f.base_status)) +
-           td(html_escape(f.new_status)) + "</tr>";
-    }
-    h += "</table>";
-  }
+  h += detail_sections(c, "h2");
   h += "<h2>Failed trials</h2>";
   if (snapshots.empty() && snapshots_left_out == 0) h += "<p>No trial failed.</p>";
+  if (!snapshots.empty()) {
+    h += "<p class='meta'>Each failed trial at the moment it failed: the overview camera and a "
+         "close-up aimed at the moving hand or the object it holds. The commands render the "
+         "whole trial as video from its recording (overview, then the close-up).</p>";
+  }
   h += "<div class='cards'>";
   for (const TrialSnapshot& s : snapshots) {
-    h += "<div class='card'>";
+    h += "<div class='card wide'>";
     if (!s.png.empty()) {
-      h += "<img alt='last frame of " + html_escape(s.trial_id) + "' src='data:image/png;base64," +
-           base64(s.png) + "'>";
+      const std::string at = s.time_s >= 0 ? " at t = " + fmt("%.2f", s.time_s) + " s" : "";
+      h += "<div class='shots'><figure><img alt='overview of " + html_escape(s.trial_id) + at +
+           "' src='data:image/png;base64," + base64(s.png) + "'><figcaption>overview" +
+           html_escape(at) + "</figcaption></figure>";
+      if (!s.close_up.empty()) {
+        h += "<figure><img alt='close-up of " + html_escape(s.trial_id) +
+             "' src='data:image/png;base64," + base64(s.close_up) +
+             "'><figcaption>close-up: " + html_escape(s.focus) + "</figcaption></figure>";
+      }
+      h += "</div>";
     }
     h += "<div class='id'>" + html_escape(s.trial_id) + "</div><div>" + html_escape(s.run) +
-         " run: <b>" + html_escape(s.status) + "</b> " + html_escape(s.reason) + "</div>";
+         " run: <b>" + html_escape(s.status) + "</b>" +
+         (s.where.empty() ? "" : " in <code>" + html_escape(s.where) + "</code>") + ": " +
+         html_escape(s.reason) + "</div>";
     if (!s.note.empty()) h += "<div class='meta'>" + html_escape(s.note) + "</div>";
+    h += shell_block(s.commands);
     h += "</div>";
   }
   h += "</div>";
   if (snapshots_left_out > 0) {
     h += "<p class='meta'>" + std::to_string(snapshots_left_out) +
          " more failed trials not pictured (--max-snapshots).</p>";
+  }
+  if (differences != nullptr) {
+    const ReportTable table = provenance_diff_table(*differences);
+    h += "<h2>What ran</h2><p class='meta'>base: " + provenance_line(base_provenance) +
+         "<br>new: " + provenance_line(new_provenance) + "</p>" +
+         (table.rows.empty() ? "<p>The same build loaded the same model and scenario files.</p>"
+                             : html_table(table));
   }
   if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
     h += "<h2>Unpaired trials</h2><ul>";
@@ -375,6 +467,7 @@ std::string planners_html(const std::string& run_name, const std::vector<nlohman
   for (const Comparison& c : vs_reference) {
     h += "<h2>" + html_escape(c.new_label) + " against " + html_escape(c.base_label) + "</h2>";
     h += overall_table(c, c.base_label, c.new_label) + group_table(c);
+    h += detail_sections(c, "h3");
   }
   return h + "</body></html>\n";
 }

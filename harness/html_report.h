@@ -9,24 +9,31 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/compare.h"
+#include "harness/provenance_diff.h"
 
 namespace taskmatrix::harness {
 
-// A picture of a failed trial's last moment (harness/trial_video.h renders it).
+// Pictures of a failed trial at the moment it failed (harness/trial_video.h renders them).
 struct TrialSnapshot {
   std::string run;  // "base" or "new"
   std::string trial_id, status, reason;
-  std::vector<std::uint8_t> png;  // empty: no picture (the reason says why in `note`)
+  std::string where;                   // failure_location (harness/compare.h)
+  std::vector<std::uint8_t> png;       // the overview; empty: no picture (`note` says why)
+  std::vector<std::uint8_t> close_up;  // aimed at the moving hand or held object
+  double time_s = -1;                  // simulated time shown
+  std::string focus;                   // what the close-up looks at
+  std::vector<std::string> commands;   // shell commands that render the trial's videos
   std::string note;
 };
 
 // `base` and `fresh` are the runs' trials (all of them, for the distributions); `provenance`
-// of each run may be null.
+// of each run may be null; `differences` (may be null) what differs between them.
 std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>& base,
                          const std::vector<nlohmann::json>& fresh,
                          const nlohmann::json& base_provenance,
                          const nlohmann::json& new_provenance,
-                         const std::vector<TrialSnapshot>& snapshots, int snapshots_left_out);
+                         const std::vector<TrialSnapshot>& snapshots, int snapshots_left_out,
+                         const ProvenanceDiff* differences = nullptr);
 
 // A run with several planners: each planner against the first (`vs_reference`, one per other
 // planner, base = the reference), over the run's trials.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -101,6 +102,19 @@ int run_render_trial(const ModelCatalog& catalog, const RenderOptions& o) {
   return 0;
 }
 
+// How a command line that renders with this binary and these models starts:
+// "[TASKMATRIX_ROOT=ROOT ]/absolute/path/of/taskmatrix" (shell-quoted where needed).
+std::string render_command_prefix() {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  std::string prefix =
+      ec ? std::string("taskmatrix") : taskmatrix::harness::shell_word(self.string());
+  if (const char* root = std::getenv("TASKMATRIX_ROOT"); root != nullptr && *root) {
+    prefix = "TASKMATRIX_ROOT=" + taskmatrix::harness::shell_word(root) + " " + prefix;
+  }
+  return prefix;
+}
+
 int run_render(const ModelCatalog& catalog, const RenderOptions& o) {
   namespace mj = taskmatrix::mujoco;
   if (!o.trial.empty()) return run_render_trial(catalog, o);
@@ -194,7 +208,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 200))
       ->capture_default_str();
   render->add_option("--camera", render_options.camera,
-                     "an environment camera, 'head' (the robot's head camera) or 'free'");
+                     "an environment camera, 'head' (the robot's head camera), 'free', or "
+                     "lookat:X,Y,Z[,DISTANCE[,AZIMUTH[,ELEVATION]]] (a free camera aimed at a "
+                     "world point; metres and degrees; defaults 1.5, 210, -25)");
   render->add_option("--posture", render_options.posture, "robot posture from its profile")
       ->capture_default_str();
   render->add_flag("--depth", render_options.depth,
@@ -325,7 +341,7 @@ int main(int argc, char** argv) {
 
   taskmatrix::harness::CompareJobOptions compare_options;
   std::string compare_base, compare_new, compare_report;
-  bool compare_fail = false;
+  bool compare_fail = false, compare_fail_models = false;
   CLI::App* compare = app.add_subcommand(
       "compare",
       "Pair the trials of two run directories by id and test what changed (success, planning "
@@ -337,6 +353,24 @@ int main(int argc, char** argv) {
                       "trials) into this directory");
   compare->add_flag("--fail-on-regression", compare_fail,
                     "exit 1 when a change is a significant regression beyond the thresholds");
+  compare->add_flag("--fail-on-model-change", compare_fail_models,
+                    "exit 1 when the runs loaded model, profile or environment files with "
+                    "different contents (or either run did not record their hashes)");
+  compare->add_flag("--power", compare_options.print_power,
+                    "also print, per group, the smallest success drop and planning-time ratio "
+                    "the runs could detect (80% power) and the trials needed for the targets");
+  compare
+      ->add_option("--power-drop", compare_options.thresholds.power_success_target,
+                   "the success drop (0..1) whose trials needed the power table gives")
+      ->check(CLI::Range(0.001, 1.0))
+      ->capture_default_str()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  compare
+      ->add_option("--power-ratio", compare_options.thresholds.power_time_target,
+                   "the planning-time ratio whose trials needed the power table gives "
+                   "(default: --max-time-ratio)")
+      ->check(CLI::Range(1.001, 1e6))
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   compare->add_flag("--fail-on-unpaired", compare_options.thresholds.fail_on_unpaired,
                     "a trial without a partner is a regression (both ways, unless --subset)");
   compare->add_flag("--subset", compare_options.thresholds.new_is_subset,
@@ -442,14 +476,20 @@ int main(int argc, char** argv) {
       compare_options.base_dir = compare_base;
       compare_options.new_dir = compare_new;
       compare_options.report_dir = compare_report;
-      compare_options.snapshot = [&catalog](const std::string& dir_and_trial) {
+      compare_options.snapshot = [&catalog](const std::string& dir_and_trial, double time_s) {
         taskmatrix::harness::FrameOptions frame;
         frame.width = 480;
         frame.height = 360;
-        return taskmatrix::harness::trial_snapshot_png(catalog, dir_and_trial, -1, frame);
+        return taskmatrix::harness::failure_pictures(catalog, dir_and_trial, time_s, frame);
       };
+      compare_options.render_command = render_command_prefix();
       const taskmatrix::harness::CompareJobResult r =
           taskmatrix::harness::run_compare_job(compare_options, std::cout);
+      if (compare_fail_models && r.differences.models_changed()) {
+        std::cerr << "taskmatrix: compare: the runs' model files differ "
+                     "(--fail-on-model-change)\n";
+        return 1;
+      }
       return compare_fail && r.comparison.regression() ? 1 : 0;
     }
     if (*validate || *run || *merge) {

@@ -30,8 +30,9 @@ namespace fs = std::filesystem;
 // What must be equal for trials to come from the same build.
 constexpr const char* kBuildKeys[] = {"executable_sha256", "mujoco_version", "ompl_version"};
 // What the merged provenance takes from the shards: the build that ran the trials.
-constexpr const char* kShardBuildKeys[] = {"git_commit",     "git_dirty",    "compiler",
-                                           "mujoco_version", "ompl_version", "executable_sha256"};
+constexpr const char* kShardBuildKeys[] = {"git_commit",       "git_dirty",      "build",
+                                           "compiler",         "mujoco_version", "ompl_version",
+                                           "executable_sha256"};
 
 struct ShardDir {
   fs::path dir;
@@ -141,6 +142,32 @@ Transfer transfer(const fs::path& from, const fs::path& to, bool move) {
   return move ? Transfer::kMoved : Transfer::kCopied;
 }
 
+// The model files of all shards (each loads only the scenes of its own trials), sorted by path;
+// throws when two shards loaded one file with different contents. null when a shard recorded
+// none (an older build).
+nlohmann::json merged_model_files(const std::vector<ShardDir>& shards) {
+  std::map<std::string, std::pair<nlohmann::json, const ShardDir*>> files;
+  for (const ShardDir& s : shards) {
+    const nlohmann::json& list = s.provenance.value("model_files", nlohmann::json(nullptr));
+    if (!list.is_array()) return nullptr;
+    for (const nlohmann::json& f : list) {
+      const std::string path = f.value("path", std::string());
+      const auto [it, added] = files.emplace(path, std::pair{f, &s});
+      if (!added && it->second.first.value("sha256", nlohmann::json()) !=
+                        f.value("sha256", nlohmann::json())) {
+        throw InputError(provenance_file(s.dir), "model_files",
+                         "the shard loaded " + path + " with other contents than " +
+                             it->second.second->dir.string() + " (sha256 " +
+                             f.value("sha256", nlohmann::json()).dump() + " vs " +
+                             it->second.first.value("sha256", nlohmann::json()).dump() + ")");
+      }
+    }
+  }
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& [path, f] : files) out.push_back(f.first);
+  return out;
+}
+
 }  // namespace
 
 MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry& registry,
@@ -161,6 +188,7 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
     for (const char* key : kBuildKeys) require_same(first, s, key, "the shard ran another build");
     require_same(first, s, "matrix", "the shard ran another matrix");
   }
+  const nlohmann::json model_files = merged_model_files(shards);
 
   // 2. The matrix, from the suite the shards ran (still the same files).
   const nlohmann::json& matrix_info = first.provenance["matrix"];
@@ -311,6 +339,7 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
   for (const char* key : kShardBuildKeys) {
     provenance[key] = first.provenance.value(key, nlohmann::json(nullptr));
   }
+  provenance["model_files"] = model_files;
   provenance["matrix"] = matrix_info;
   provenance["shard"] = {{"index", 0}, {"count", 1}, {"from", "merge"}, {"trials", matrix.size()}};
   provenance["started_at"] = started;

@@ -5,6 +5,7 @@
 
 #include "harness/html_report.h"
 #include "harness/summary.h"
+#include "taskmatrix/mujoco/motion_planner.h"
 
 namespace taskmatrix::harness {
 
@@ -21,8 +22,42 @@ std::vector<nlohmann::json> of_planner(const std::vector<nlohmann::json>& trials
 
 }  // namespace
 
+PlannerBudgets planner_budgets(const RunPlan& plan) {
+  PlannerBudgets b;
+  for (const Scenario& s : plan.scenarios) {
+    b.plan_time_limit_s[s.name] = s.plan_time_limit_s;
+    for (const PlannerConfig& pc : s.planners) {
+      if (mujoco::planner_optimizes_paths(pc.spec.name)) b.anytime_planners.insert(pc.spec.name);
+    }
+  }
+  return b;
+}
+
+PlannerBudgets planner_budgets(const nlohmann::json& provenance) {
+  PlannerBudgets b;
+  if (!provenance.is_object() || !provenance.contains("scenarios") ||
+      !provenance["scenarios"].is_array()) {
+    return b;
+  }
+  for (const nlohmann::json& s : provenance["scenarios"]) {
+    if (!s.is_object()) continue;
+    if (s.contains("plan_time_limit_s") && s["plan_time_limit_s"].is_number() &&
+        s.contains("name") && s["name"].is_string()) {
+      b.plan_time_limit_s[s["name"].get<std::string>()] = s["plan_time_limit_s"].get<double>();
+    }
+    if (!s.contains("planners") || !s["planners"].is_array()) continue;
+    for (const nlohmann::json& p : s["planners"]) {
+      if (!p.is_object() || !p.contains("name") || !p["name"].is_string()) continue;
+      const std::string name = p["name"].get<std::string>();
+      if (mujoco::planner_optimizes_paths(name)) b.anytime_planners.insert(name);
+    }
+  }
+  return b;
+}
+
 std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& trials,
-                                         const std::vector<std::string>& planners) {
+                                         const std::vector<std::string>& planners,
+                                         const PlannerBudgets& budgets) {
   std::vector<Comparison> out;
   if (planners.size() < 2) return out;
   const std::vector<nlohmann::json> reference = of_planner(trials, planners[0]);
@@ -30,7 +65,8 @@ std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& tria
   for (size_t i = 1; i < planners.size(); ++i) {
     const std::vector<nlohmann::json> other = of_planner(trials, planners[i]);
     if (other.empty()) continue;
-    Comparison c = compare_trials(reference, other, /*with_planner=*/false, CompareThresholds{});
+    Comparison c =
+        compare_trials(reference, other, /*with_planner=*/false, CompareThresholds{}, budgets);
     if (c.overall.pairs == 0) continue;  // another scenario's planner: nothing in common
     c.base_label = planners[0];
     c.new_label = planners[i];
@@ -47,8 +83,8 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
                    " on the same trials\n\n"
                    "| planner | success | 95% CI | planning s (median) | joint path (median) | "
                    "McNemar p | planning time ratio (95% CI) | Wilcoxon p | collision checks "
-                   "ratio | verdict |\n"
-                   "|---|---|---|---|---|---|---|---|---|---|\n";
+                   "ratio | verdict | path quality (pairs where both succeeded) |\n"
+                   "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& planner : planners) {
     const std::vector<nlohmann::json> mine = of_planner(trials, planner);
     if (mine.empty()) continue;
@@ -73,7 +109,7 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
       if (v.new_label == planner) c = &v;
     }
     if (c == nullptr) {
-      md += "- | reference | - | - | reference |\n";
+      md += "- | reference | - | - | reference | - |\n";
       continue;
     }
     const PairedGroup& o = c->overall;
@@ -83,16 +119,22 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
     }
     std::string verdict;
     for (const std::string& r : o.regressions) verdict += (verdict.empty() ? "worse: " : "; ") + r;
+    for (const std::string& r : o.by_design) {
+      verdict += (verdict.empty() ? std::string(kByDesign) + ": " : "; ") + r;
+    }
     for (const std::string& r : o.improvements) {
       verdict += (verdict.empty() ? "better: " : "; better: ") + r;
     }
+    std::string quality;
+    for (const std::string& f : o.path_findings) quality += (quality.empty() ? "" : "; ") + f;
     md += p_value_text(o.mcnemar_p) + " | " +
           (o.time_pairs > 0 ? "x" + format_number("%.2f", o.time_ratio) + " (" +
                                   format_number("%.2f", o.time_ratio_low) + ".." +
                                   format_number("%.2f", o.time_ratio_high) + ")"
                             : "-") +
           " | " + p_value_text(o.wilcoxon_p) + " | " + format_number("x%.2f", checks) + " | " +
-          (verdict.empty() ? "no significant difference" : verdict) + " |\n";
+          (verdict.empty() ? no_change_text(o, c->thresholds) : verdict) + " | " +
+          (quality.empty() ? "no significant difference" : quality) + " |\n";
   }
   md += "\nPer group: planners.md; plots: planners.html.\n";
   return md;

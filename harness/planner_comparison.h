@@ -10,13 +10,21 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/compare.h"
+#include "harness/scenario.h"
 
 namespace taskmatrix::harness {
+
+// What the planners of a run were given (harness/compare.h): from its scenarios, or from its
+// provenance.json (scenarios[].planners[].name and plan_time_limit_s; a provenance without
+// plan_time_limit_s leaves the limits unknown).
+PlannerBudgets planner_budgets(const RunPlan& plan);
+PlannerBudgets planner_budgets(const nlohmann::json& provenance);
 
 // Each planner after the first against the first, on the trials of both. Empty for fewer
 // than two planners with trials.
 std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& trials,
-                                         const std::vector<std::string>& planners);
+                                         const std::vector<std::string>& planners,
+                                         const PlannerBudgets& budgets = {});
 
 // The table for summary.md: one row per planner (success with interval, median planning
 // time, and against the reference: McNemar p, planning-time ratio with interval, collision

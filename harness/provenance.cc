@@ -1,6 +1,7 @@
 #include "harness/provenance.h"
 
 #include <openssl/evp.h>
+#include <tinyxml2.h>
 #include <unistd.h>
 
 #include <mujoco/mujoco.h>
@@ -11,9 +12,11 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <thread>
 
+#include "harness/build_info.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
@@ -91,15 +94,20 @@ std::string plan_hash(const RunPlan& plan) {
   return sha.hex();
 }
 
-std::string executable_hash() {
-  std::ifstream in("/proc/self/exe", std::ios::binary);
-  if (!in) return "unknown";
+std::string file_sha256(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return "";
   Sha256 sha;
   std::array<char, 1 << 16> buf{};
   while (in.read(buf.data(), buf.size()) || in.gcount() > 0) {
     sha.add(buf.data(), static_cast<size_t>(in.gcount()));
   }
   return sha.hex();
+}
+
+std::string executable_hash() {
+  const std::string hash = file_sha256("/proc/self/exe");
+  return hash.empty() ? "unknown" : hash;
 }
 
 std::string ompl_version() {
@@ -135,14 +143,32 @@ std::string utc_now_iso() {
 nlohmann::json make_provenance(const RunPlan& plan, const std::filesystem::path& repo_root,
                                const std::vector<std::string>& command_line, int jobs) {
   nlohmann::json p;
+  // What ran: the build's commit, embedded when it was built.
+  const std::string built_from = build_commit();
+  p["git_commit"] = built_from;
+  p["git_dirty"] =
+      built_from == "unknown" ? nlohmann::json(nullptr) : nlohmann::json(build_dirty());
+  p["build"] = {{"commit", built_from},
+                {"dirty", p["git_dirty"]},
+                {"diff_sha256", *build_diff_sha256() ? nlohmann::json(build_diff_sha256())
+                                                     : nlohmann::json(nullptr)},
+                {"describe", build_describe()},
+                {"type", build_type()}};
+  // Where the models and scenarios were read from: its own checkout, if it is one.
   const std::string git = "git -C " + quoted(repo_root.string());
-  const std::string commit = run_command(git + " rev-parse HEAD 2>/dev/null");
-  p["git_commit"] = commit.empty() ? "unknown" : commit;
-  p["git_dirty"] = commit.empty()
-                       ? nlohmann::json(nullptr)
-                       : nlohmann::json(!run_command(git + " status --porcelain "
-                                                           "--untracked-files=no 2>/dev/null")
-                                             .empty());
+  const std::string root_commit = run_command(git + " rev-parse HEAD 2>/dev/null");
+  nlohmann::json root = {
+      {"path", std::filesystem::absolute(repo_root).lexically_normal().string()}};
+  if (root_commit.empty()) {
+    root["git_commit"] = nullptr;
+    root["git_dirty"] = nullptr;
+    root["note"] = "not a git checkout: the model_files hashes identify its files";
+  } else {
+    root["git_commit"] = root_commit;
+    root["git_dirty"] =
+        !run_command(git + " status --porcelain --untracked-files=no 2>/dev/null").empty();
+  }
+  p["root"] = root;
   p["mujoco_version"] = mujoco_version();
   p["ompl_version"] = ompl_version();
   p["compiler"] = std::string("gcc-compatible ") + __VERSION__;
@@ -162,7 +188,9 @@ nlohmann::json make_provenance(const RunPlan& plan, const std::filesystem::path&
     }
     scenarios.push_back({{"name", s.name},
                          {"file", s.file.string()},
+                         {"file_sha256", file_sha256(s.file)},
                          {"program", s.run.program},
+                         {"plan_time_limit_s", s.plan_time_limit_s},
                          {"layout_seed", s.layout_seed},
                          {"seed", s.seed},
                          {"trials", s.trials},
@@ -173,6 +201,91 @@ nlohmann::json make_provenance(const RunPlan& plan, const std::filesystem::path&
   p["jobs"] = jobs;
   p["started_at"] = utc_now_iso();
   return p;
+}
+
+namespace {
+
+std::string relative_to_root(const std::filesystem::path& file, const std::filesystem::path& root) {
+  const std::filesystem::path abs = std::filesystem::absolute(file).lexically_normal();
+  const std::filesystem::path rel =
+      abs.lexically_relative(std::filesystem::absolute(root).lexically_normal());
+  return !rel.empty() && *rel.begin() != ".." ? rel.generic_string() : abs.generic_string();
+}
+
+// Files an MJCF or URDF file names: MJCF `file` attributes (include, mesh, texture, hfield,
+// skin; resolved against <compiler>'s assetdir/meshdir/texturedir) and URDF mesh `filename`s.
+// Included MJCF files are followed.
+void referenced_files(const std::filesystem::path& model, bool urdf,
+                      std::vector<std::filesystem::path>& out, int depth = 0) {
+  tinyxml2::XMLDocument doc;
+  if (depth > 8 || doc.LoadFile(model.c_str()) != tinyxml2::XML_SUCCESS) return;
+  const std::filesystem::path dir = model.parent_path();
+  std::map<std::string, std::string> dirs;  // meshdir, texturedir, assetdir
+  std::vector<const tinyxml2::XMLElement*> stack{doc.RootElement()};
+  for (size_t i = 0; i < stack.size(); ++i) {
+    for (const tinyxml2::XMLElement* e = stack[i]->FirstChildElement(); e;
+         e = e->NextSiblingElement()) {
+      stack.push_back(e);
+      if (std::string(e->Name()) != "compiler") continue;
+      for (const char* key : {"meshdir", "texturedir", "assetdir"}) {
+        if (const char* v = e->Attribute(key)) dirs[key] = v;
+      }
+    }
+  }
+  for (const tinyxml2::XMLElement* e : stack) {
+    if (e == nullptr) continue;
+    const std::string name = e->Name();
+    const char* file = e->Attribute(urdf ? "filename" : "file");
+    if (file == nullptr || (urdf && name != "mesh")) continue;
+    std::filesystem::path p = file;
+    if (p.is_relative() && !urdf && name != "include") {
+      const std::string key = name == "texture" ? "texturedir" : "meshdir";
+      const std::string sub = dirs.count(key) ? dirs[key] : dirs["assetdir"];
+      p = std::filesystem::path(sub) / p;
+    }
+    if (p.is_relative()) p = dir / p;
+    out.push_back(p);
+    if (!urdf && name == "include") referenced_files(p, false, out, depth + 1);
+  }
+}
+
+}  // namespace
+
+nlohmann::json model_files_provenance(
+    const std::vector<std::shared_ptr<const mujoco::Scene>>& scenes,
+    const std::filesystem::path& root) {
+  struct Entry {
+    std::string role, of;
+  };
+  std::map<std::string, std::pair<std::filesystem::path, Entry>> files;  // by recorded path
+  const auto add = [&](const std::filesystem::path& f, const std::string& role,
+                       const std::string& of) {
+    files.emplace(relative_to_root(f, root), std::pair{f, Entry{role, of}});
+  };
+  for (const auto& scene : scenes) {
+    const core::RobotProfile& robot = scene->robot();
+    const core::EnvironmentSpec& env = scene->environment();
+    const bool urdf = robot.format == core::ModelFormat::kUrdf;
+    add(robot.profile_file, "robot profile", robot.name);
+    add(robot.model_file, urdf ? "robot model (URDF)" : "robot model (MJCF)", robot.name);
+    add(env.spec_file, "environment spec", env.name);
+    add(env.model_file, "environment model (MJCF)", env.name);
+    std::vector<std::filesystem::path> assets;
+    referenced_files(robot.model_file, urdf, assets);
+    for (const auto& a : assets) add(a, "robot asset", robot.name);
+    assets.clear();
+    referenced_files(env.model_file, false, assets);
+    for (const auto& a : assets) add(a, "environment asset", env.name);
+  }
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& [path, file] : files) {
+    const std::string hash = file_sha256(file.first);
+    out.push_back({{"path", path},
+                   {"role", file.second.role},
+                   {"of", file.second.of},
+                   {"sha256", hash.empty() ? nlohmann::json(nullptr) : nlohmann::json(hash)}});
+  }
+  return out;
 }
 
 nlohmann::json matrix_provenance(const RunPlan& plan, const RunOverrides& overrides,

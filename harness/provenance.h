@@ -1,5 +1,8 @@
-// provenance.json: what produced a run, so that two runs can be compared honestly: the git
-// commit (and whether the tree had changes), MuJoCo and OMPL versions, compiler, host (name,
+// provenance.json: what produced a run, so that two runs can be compared honestly: the build
+// (the git commit the binary was built from, whether that tree had changes and a hash of
+// them, embedded at build time: harness/build_info.h), the checkout the models were read from
+// (TASKMATRIX_ROOT; its commit, or that it is not a git checkout), the SHA-256 of every model,
+// profile and environment file the run loaded, MuJoCo and OMPL versions, compiler, host (name,
 // CPU model, cores, memory), the SHA-256 of the scenario files, seeds and overrides, the
 // command line, and when it ran; the matrix it ran (the suite file's absolute path, the
 // overrides, the trial count) and, in a Slurm job, the job's ids; the SHA-256 of the
@@ -13,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/scenario.h"
+#include "taskmatrix/mujoco/scene.h"
 
 namespace taskmatrix::harness {
 
@@ -29,8 +33,22 @@ std::string mujoco_version();  // e.g. "2.2.2"
 // SHA-256 (hex) of the running executable (/proc/self/exe); "unknown" if unreadable.
 std::string executable_hash();
 
+// SHA-256 (hex) of a file's bytes; "" when it cannot be read.
+std::string file_sha256(const std::filesystem::path& file);
+
+// `repo_root` is the catalog root (TASKMATRIX_ROOT): recorded with its own git state under
+// "root"; "git_commit" and "git_dirty" are the build's (what ran).
 nlohmann::json make_provenance(const RunPlan& plan, const std::filesystem::path& repo_root,
                                const std::vector<std::string>& command_line, int jobs);
+
+// The model files the scenes loaded: for each robot its profile and model (MJCF or URDF), for
+// each environment its spec and model, and the files those models reference (MJCF <include>,
+// meshes, textures, height fields; URDF meshes). An array of {"path" (relative to `root` when
+// under it), "role", "of" (the robot or environment), "sha256"}, sorted by path; a referenced
+// file that cannot be read has "sha256": null.
+nlohmann::json model_files_provenance(
+    const std::vector<std::shared_ptr<const mujoco::Scene>>& scenes,
+    const std::filesystem::path& root);
 
 // What defines a run's trial matrix: {"file": the suite or scenario file's absolute path,
 // "trials": trials of the whole matrix, "overrides": {"trials", "seed", "planners"}} (null

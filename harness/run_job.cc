@@ -15,6 +15,7 @@
 #include "harness/layout_json.h"
 #include "harness/ompl_log.h"
 #include "harness/planner_comparison.h"
+#include "harness/power.h"
 #include "harness/provenance.h"
 #include "harness/run_directory.h"
 #include "harness/summary.h"
@@ -218,7 +219,8 @@ std::string write_run_results(const std::filesystem::path& dir, const RunPlan& p
       }
     }
   }
-  const std::vector<Comparison> vs_reference = compare_planners(finished, planners);
+  const std::vector<Comparison> vs_reference =
+      compare_planners(finished, planners, planner_budgets(plan));
   std::string appendix;
   if (!vs_reference.empty()) {
     nlohmann::json comparisons = nlohmann::json::array();
@@ -227,6 +229,8 @@ std::string write_run_results(const std::filesystem::path& dir, const RunPlan& p
     appendix = planner_table_markdown(finished, planners, vs_reference);
     write_planner_comparison(dir, plan.name, finished, planners, vs_reference);
   }
+  summary["power"] = summary_power_json(summary);
+  appendix += summary_power_markdown(summary["power"]);
   write_summary(dir, summary, appendix);
   write_file_atomically(dir / "ompl.log",
                         ompl_log_text(ompl_info(plan, provenance, info.wall_s), finished));
@@ -313,6 +317,9 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   nlohmann::json provenance =
       make_provenance(plan, catalog.root(), options.command_line, options.jobs);
   provenance["matrix"] = matrix_provenance(plan, options.overrides, p.whole_matrix);
+  std::vector<std::shared_ptr<const mujoco::Scene>> loaded;
+  for (const auto& [names, scene] : p.scenes) loaded.push_back(scene);
+  provenance["model_files"] = model_files_provenance(loaded, catalog.root());
   provenance["shard"] = {{"index", options.shard.index},
                          {"count", options.shard.count},
                          {"from", options.shard.from},

@@ -203,6 +203,54 @@ std::string svg_intervals(const std::vector<IntervalRow>& rows,
   return s + "</svg>";
 }
 
+std::string svg_changes(const std::vector<ChangeRow>& rows, const std::string& axis) {
+  const double label_w = 420, plot_w = 420, row_h = 20, top = 10;
+  const double base = top + row_h * static_cast<double>(rows.size());
+  // Wide enough for every change and, up to twice that, their intervals (wider ones are cut
+  // at the edge).
+  double values = 1, intervals = 1;
+  for (const ChangeRow& r : rows) {
+    if (std::isfinite(r.value)) values = std::max(values, std::fabs(r.value));
+    for (double v : {r.low, r.high}) {
+      if (std::isfinite(v)) intervals = std::max(intervals, std::fabs(v));
+    }
+  }
+  double extent = std::min(intervals, 2 * values);
+  // A round extent: 1, 2 or 5 times a power of ten.
+  const double decade = std::pow(10.0, std::floor(std::log10(extent)));
+  const double step = extent <= decade ? decade : extent <= 2 * decade ? 2 * decade : 5 * decade;
+  extent = extent <= step ? step : 10 * decade;
+  const auto x_of = [&](double v) {
+    return label_w + (std::clamp(v, -extent, extent) + extent) / (2 * extent) * plot_w;
+  };
+  std::string s = svg_open(label_w + plot_w + 30, base + 40);
+  for (int k = -2; k <= 2; ++k) {
+    const double v = extent * k / 2, x = x_of(v);
+    s += "<line x1='" + num(x) + "' y1='" + num(top) + "' x2='" + num(x) + "' y2='" + num(base) +
+         "' stroke='" + (k == 0 ? "#888" : "#ddd") + "'/>";
+    s += "<text x='" + num(x) + "' y='" + num(base + 14) +
+         "' text-anchor='middle' font-size='11'>" + tick_label(v) + "</text>";
+  }
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const ChangeRow& row = rows[r];
+    const double cy = top + row_h * (static_cast<double>(r) + 0.5);
+    const char* colour = row.tone > 0 ? "#2ca02c" : row.tone < 0 ? "#d62728" : kBaseColour;
+    s += "<text x='" + num(label_w - 8) + "' y='" + num(cy + 4) +
+         "' text-anchor='end' font-size='12'>" + html_escape(row.label) + "</text>";
+    if (std::isfinite(row.low) && std::isfinite(row.high)) {
+      s += "<line x1='" + num(x_of(row.low)) + "' y1='" + num(cy) + "' x2='" + num(x_of(row.high)) +
+           "' y2='" + num(cy) + "' stroke='" + colour + "' stroke-width='2'/>";
+    }
+    s += "<circle cx='" + num(x_of(row.value)) + "' cy='" + num(cy) + "' r='4' fill='" + colour +
+         "'><title>" + html_escape(row.label) + ": " + format_number("%+.1f", row.value) + " (" +
+         format_number("%+.1f", row.low) + ".." + format_number("%+.1f", row.high) +
+         ")</title></circle>";
+  }
+  s += "<text x='" + num(label_w + plot_w / 2) + "' y='" + num(base + 32) +
+       "' text-anchor='middle' font-size='12'>" + html_escape(axis) + "</text>";
+  return s + "</svg>";
+}
+
 std::string svg_scatter(const std::vector<ScatterPoint>& points,
                         const std::vector<SeriesName>& series, const std::string& x_axis,
                         const std::string& y_axis) {

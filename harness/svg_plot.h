@@ -38,6 +38,15 @@ struct SeriesName {
 std::string svg_intervals(const std::vector<IntervalRow>& rows,
                           const std::vector<SeriesName>& series, const std::string& axis);
 
+struct ChangeRow {
+  std::string label;
+  double value = 0, low = 0, high = 0;  // a change and its interval (NaN: no interval)
+  int tone = 0;                         // 1 better (green), -1 worse (red), 0 neither (grey)
+};
+// One row per entry: a dot and its interval on a linear axis symmetric about 0 (a forest
+// plot), labelled `axis`.
+std::string svg_changes(const std::vector<ChangeRow>& rows, const std::string& axis);
+
 struct ScatterPoint {
   double x = 0, y = 0;
   int series = 0;

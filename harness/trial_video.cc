@@ -10,29 +10,84 @@
 #include <atomic>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
 #include "harness/replay.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/mujoco/kinematics.h"
 
 extern char** environ;
 
 namespace taskmatrix::harness {
 
+namespace {
+
+// "lookat:X,Y,Z[,D[,AZ[,EL]]]" into `view`.
+void parse_lookat(const std::string& camera, mujoco::CameraView& view) {
+  std::vector<double> v;
+  std::stringstream in(camera.substr(7));
+  for (std::string item; std::getline(in, item, ',');) {
+    size_t used = 0;
+    double x = NAN;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(x)) {
+      throw core::InputError("--camera", "",
+                             "'" + camera + "': '" + item + "' is not a number (expected " +
+                                 "lookat:X,Y,Z[,DISTANCE[,AZIMUTH[,ELEVATION]]])");
+    }
+    v.push_back(x);
+  }
+  if (v.size() < 3 || v.size() > 6) {
+    throw core::InputError("--camera", "",
+                           "'" + camera +
+                               "' needs 3 to 6 numbers: lookat:X,Y,Z[,DISTANCE[,AZIMUTH[,"
+                               "ELEVATION]]] (metres and degrees)");
+  }
+  if (v.size() > 3 && !(v[3] > 0)) {
+    throw core::InputError("--camera", "", "'" + camera + "': the distance must be positive");
+  }
+  if (v.size() > 5 && std::fabs(v[5]) > 90) {
+    throw core::InputError("--camera", "",
+                           "'" + camera + "': the elevation must be within -90..90 degrees");
+  }
+  view.fixed_camera = -1;
+  for (int i = 0; i < 3; ++i) view.lookat[i] = v[static_cast<size_t>(i)];
+  view.distance = v.size() > 3 ? v[3] : 1.5;
+  view.azimuth = v.size() > 4 ? v[4] : 210;
+  view.elevation = v.size() > 5 ? v[5] : -25;
+}
+
+}  // namespace
+
+std::string lookat_camera_text(const mujoco::CameraView& view) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "lookat:%.3f,%.3f,%.3f,%.2f,%.0f,%.0f", view.lookat[0],
+                view.lookat[1], view.lookat[2], view.distance, view.azimuth, view.elevation);
+  return buf;
+}
+
 mujoco::CameraView camera_view(const mujoco::Scene& scene, std::string& camera) {
   mujoco::CameraView view;
   if (camera.empty())
     camera = scene.environment().cameras.empty() ? "free" : scene.environment().cameras[0];
-  if (camera == "head") {
+  if (camera.rfind("lookat:", 0) == 0) {
+    parse_lookat(camera, view);
+  } else if (camera == "head") {
     view.fixed_camera = scene.head_camera();
   } else if (camera != "free") {
     view.fixed_camera = mj_name2id(scene.model(), mjOBJ_CAMERA, camera.c_str());
     if (view.fixed_camera < 0) {
-      std::string known = "head, free";
+      std::string known = "head, free, lookat:X,Y,Z[,D[,AZ[,EL]]]";
       for (const std::string& c : scene.environment().cameras) known += ", " + c;
       throw core::InputError("--camera", "",
                              "unknown camera '" + camera + "' (known: " + known + ")");
@@ -272,6 +327,24 @@ std::string number(double v) {
 
 }  // namespace
 
+namespace {
+
+// The replay's current frame through `view`, as PNG file bytes.
+std::vector<std::uint8_t> render_png(mujoco::OffscreenRenderer& renderer, Replay& replay,
+                                     const mujoco::CameraView& view) {
+  const mujoco::RgbImage image =
+      renderer.render_rgb(replay.worker().model(), replay.worker().data(), view);
+  std::vector<std::uint8_t> png;
+  const unsigned err = lodepng::encode(png, image.pixels, static_cast<unsigned>(image.width),
+                                       static_cast<unsigned>(image.height), LCT_RGB, 8);
+  if (err != 0) {
+    throw std::runtime_error(std::string("cannot encode PNG: ") + lodepng_error_text(err));
+  }
+  return png;
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> trial_snapshot_png(const ModelCatalog& catalog,
                                              const std::string& run_dir_and_trial, double time_s,
                                              const FrameOptions& options) {
@@ -283,15 +356,126 @@ std::vector<std::uint8_t> trial_snapshot_png(const ModelCatalog& catalog,
   const size_t frame = time_s < 0 ? replay->frames() - 1 : replay->frame_at(time_s);
   replay->show(frame);
   mujoco::OffscreenRenderer renderer(replay->scene().model(), options.width, options.height);
-  const mujoco::RgbImage image =
-      renderer.render_rgb(replay->worker().model(), replay->worker().data(), view);
-  std::vector<std::uint8_t> png;
-  const unsigned err = lodepng::encode(png, image.pixels, static_cast<unsigned>(image.width),
-                                       static_cast<unsigned>(image.height), LCT_RGB, 8);
-  if (err != 0) {
-    throw std::runtime_error(std::string("cannot encode PNG: ") + lodepng_error_text(err));
+  return render_png(renderer, *replay, view);
+}
+
+namespace {
+
+Eigen::Vector3d body_position(const mjData* d, int body) {
+  return Eigen::Vector3d(d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2]);
+}
+
+struct FocusCandidate {
+  std::string label;
+  mujoco::FrameRef frame;
+  bool palm = false;
+  std::vector<Eigen::Vector3d> positions;  // per recorded frame up to the failure
+};
+
+// Largest distance of a candidate from where it was at `from` among frames from..to.
+double moved(const FocusCandidate& c, size_t from, size_t to) {
+  double most = 0;
+  for (size_t k = from; k <= to; ++k) {
+    most = std::max(most, (c.positions[k] - c.positions[from]).norm());
   }
-  return png;
+  return most;
+}
+
+}  // namespace
+
+FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string& run_dir_and_trial,
+                                 double time_s, const FrameOptions& options) {
+  if (std::isnan(time_s)) throw core::InputError("--time", "", "not a number");
+  FailurePictures out;
+  const std::unique_ptr<Replay> replay = load_replay(catalog, run_dir_and_trial);
+  const mujoco::Scene& scene = replay->scene();
+  std::string camera = options.camera;
+  const mujoco::CameraView overview = camera_view(scene, camera);
+  check_size(scene, options, false);
+  const size_t frame = time_s < 0 ? replay->frames() - 1 : replay->frame_at(time_s);
+  out.time_s = replay->time_of(frame);
+
+  // Where the palms and the movable objects were at every frame up to the failure.
+  std::vector<FocusCandidate> candidates;
+  for (const core::HandSpec& hand : scene.robot().hands) {
+    candidates.push_back(
+        {hand.side + " hand (" + hand.palm + ")", scene.frame(hand.palm), true, {}});
+  }
+  for (const auto& [name, object] : scene.environment().objects) {
+    if (object.kind != core::ObjectKind::kGraspable && object.kind != core::ObjectKind::kTool) {
+      continue;
+    }
+    candidates.push_back({name, scene.frame(name), false, {}});
+  }
+  const mjData* d = replay->worker().data();
+  const int base_body = replay->worker().model()->jnt_bodyid[scene.chain("base").joints.at(0)];
+  Eigen::Vector3d base = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k <= frame; ++k) {
+    replay->show(k);
+    for (FocusCandidate& c : candidates) {
+      c.positions.push_back(mujoco::frame_pose(d, c.frame).position);
+    }
+    if (k == frame) base = body_position(d, base_body);
+  }
+  // A held or handled object: it moved during the trial and is at a palm now.
+  const FocusCandidate* focus = nullptr;
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();
+  for (const FocusCandidate& object : candidates) {
+    if (object.palm || moved(object, 0, frame) < 0.02) continue;
+    for (const FocusCandidate& palm : candidates) {
+      if (!palm.palm || (palm.positions[frame] - object.positions[frame]).norm() > 0.15) continue;
+      focus = &object;
+      target = (palm.positions[frame] + object.positions[frame]) / 2;
+      out.focus = object.label + " (held or handled by the " + palm.label + ")";
+    }
+  }
+  if (focus == nullptr) {
+    // The palm that moved most just before the failure (over the whole trial if none did).
+    const double window = 2.0;
+    size_t from = frame;
+    while (from > 0 && replay->time_of(from - 1) >= out.time_s - window) --from;
+    for (const size_t start : {from, size_t{0}}) {
+      double most = 0.01;
+      for (const FocusCandidate& c : candidates) {
+        if (!c.palm) continue;
+        const double m = moved(c, start, frame);
+        if (m > most) {
+          most = m;
+          focus = &c;
+        }
+      }
+      if (focus != nullptr) break;
+    }
+    if (focus == nullptr && !candidates.empty() && candidates.front().palm) focus = &candidates[0];
+    if (focus == nullptr) throw core::InputError("--trial", "", "the robot has no hands");
+    target = focus->positions[frame];
+    out.focus = focus->label;
+    for (const FocusCandidate& object : candidates) {
+      if (!object.palm && (object.positions[frame] - target).norm() <= 0.15) {
+        target = (target + object.positions[frame]) / 2;
+        out.focus += " at " + object.label;
+        break;
+      }
+    }
+  }
+  // From beyond the focus as seen from the robot's base, looking back and down at it.
+  mujoco::CameraView close;
+  close.fixed_camera = -1;
+  for (int i = 0; i < 3; ++i) close.lookat[i] = target[i];
+  close.distance = 0.7;
+  close.azimuth =
+      std::atan2(base.y() - target.y(), base.x() - target.x()) * 180 / std::numbers::pi + 35;
+  close.azimuth = std::fmod(close.azimuth + 360, 360);
+  close.elevation = -25;
+  // Drawn through the view its --camera text describes, so that the text reproduces it.
+  out.close_up_camera = lookat_camera_text(close);
+  parse_lookat(out.close_up_camera, close);
+
+  replay->show(frame);
+  mujoco::OffscreenRenderer renderer(scene.model(), options.width, options.height);
+  out.overview = render_png(renderer, *replay, overview);
+  out.close_up = render_png(renderer, *replay, close);
+  return out;
 }
 
 VideoInfo write_trial_video(const ModelCatalog& catalog, const std::string& run_dir_and_trial,

@@ -16,10 +16,17 @@
 namespace taskmatrix::harness {
 
 // The view for a `--camera` value: "" is the environment's first camera ("free" when it has
-// none), "head" the robot's head camera, "free" the default free camera, anything else a
-// camera of the model by name. Sets `camera` to the name used (for "": the camera chosen).
-// Throws core::InputError("--camera") naming the known cameras for an unknown one.
+// none), "head" the robot's head camera, "free" the default free camera (looking at
+// (0.4, 0, 0.8) from 3.6 m, azimuth 210, elevation -22 degrees), "lookat:X,Y,Z[,D[,AZ[,EL]]]"
+// a free camera looking at world point (X, Y, Z) from D metres (default 1.5) at azimuth AZ
+// and elevation EL in degrees (defaults 210 and -25: from the robot's front, +x, a little
+// above), anything else a camera of the model by name. Sets `camera` to the name used (for
+// "": the camera chosen). Throws core::InputError("--camera") naming the known cameras for an
+// unknown one, and for a malformed lookat.
 mujoco::CameraView camera_view(const mujoco::Scene& scene, std::string& camera);
+
+// "lookat:X,Y,Z,D,AZ,EL" for a free camera view, as camera_view reads it.
+std::string lookat_camera_text(const mujoco::CameraView& view);
 
 struct FrameOptions {
   std::string camera;  // "" = the environment's first camera (as `render` does), "head", "free"
@@ -34,6 +41,24 @@ struct FrameOptions {
 std::vector<std::uint8_t> trial_snapshot_png(const ModelCatalog& catalog,
                                              const std::string& run_dir_and_trial, double time_s,
                                              const FrameOptions& options);
+
+// A failed trial at the moment it failed: the overview (options.camera) and a close-up aimed at
+// what was moving there, for reports.
+struct FailurePictures {
+  std::vector<std::uint8_t> overview, close_up;  // PNG file bytes
+  double time_s = 0;                             // simulated time of the frame shown
+  std::string close_up_camera;                   // the close-up as a --camera value (lookat:...)
+  std::string focus;  // what the close-up looks at: "right hand (r_palm) at cup", ...
+};
+
+// The recorded frame nearest `time_s` (< 0: the last), drawn twice: through options.camera and
+// through a free camera 0.7 m from the focus, looking down 25 degrees from the far side of the
+// focus as seen from the robot's base, turned 35 degrees. The focus is a held or handled
+// object (one that moved during the trial and is within 15 cm of a palm at that moment, at
+// their midpoint), else the palm that moved most in the 2 s before (over the whole trial
+// when none moved 1 cm). Throws as trial_snapshot_png.
+FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string& run_dir_and_trial,
+                                 double time_s, const FrameOptions& options);
 
 struct VideoOptions {
   FrameOptions frame;

@@ -223,6 +223,28 @@ std::vector<std::string> planner_names() {
   return names;
 }
 
+namespace {
+
+// A free 2-D unit square, to make a planner for asking about it (call with the planning lock).
+ob::SpaceInformationPtr unit_space_info() {
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  space->setBounds(0.0, 1.0);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  si->setStateValidityChecker([](const ob::State*) { return true; });
+  si->setup();
+  return si;
+}
+
+}  // namespace
+
+bool planner_optimizes_paths(const std::string& name) {
+  const auto factory = factories().find(name);
+  if (factory == factories().end()) return false;
+  std::lock_guard<std::mutex> lock(planning_mutex());
+  use_quiet_output();
+  return factory->second(unit_space_info())->getSpecs().optimizingPaths;
+}
+
 std::string check_planner_spec(const PlannerSpec& spec) {
   const auto factory = factories().find(spec.name);
   if (factory == factories().end()) {
@@ -232,12 +254,7 @@ std::string check_planner_spec(const PlannerSpec& spec) {
   }
   std::lock_guard<std::mutex> lock(planning_mutex());
   use_quiet_output();
-  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
-  space->setBounds(0.0, 1.0);
-  auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker([](const ob::State*) { return true; });
-  si->setup();
-  ob::PlannerPtr planner = factory->second(si);
+  ob::PlannerPtr planner = factory->second(unit_space_info());
   for (const auto& [key, value] : spec.params) {
     if (!planner->params().hasParam(key)) {
       std::vector<std::string> names;

@@ -29,6 +29,10 @@ using core::PlanOptions;
 
 // Planner names accepted by PlannerSpec, sorted.
 std::vector<std::string> planner_names();
+// Whether OMPL's planner `name` optimizes its path (PlannerSpecs::optimizingPaths: RRTstar,
+// PRM, BITstar, ...): with the default path-length objective, whose cost threshold no path
+// meets, it plans until its time limit. False for an unknown name.
+bool planner_optimizes_paths(const std::string& name);
 // "" if `spec` names a known planner and every parameter exists and accepts its value (checked
 // on a planner made for a small unit space); otherwise what is wrong.
 std::string check_planner_spec(const PlannerSpec& spec);

@@ -10,6 +10,7 @@
 
 #include "harness/compare.h"
 #include "harness/compare_job.h"
+#include "harness/html_report.h"
 #include "harness/paired_stats.h"
 #include "harness/run_job.h"
 #include "harness/trial_record.h"
@@ -180,6 +181,99 @@ TEST(CompareTrials, PlanningTimeRatioAndItsInterval) {
   const auto few_slow =
       run_of(3, [](int i) { return trial("reach", "minibot", i, true, 0.05, 100); });
   EXPECT_FALSE(compare_trials(few_base, few_slow, true, {}).regression());
+}
+
+TEST(CompareTrials, AnAnytimePlannerSpendingItsBudgetIsSlowerByDesignNotARegression) {
+  const auto base = run_of(10, [](int i) {
+    nlohmann::json t = trial("reach", "minibot", i, true, 0.01 * i, 100, "RRTConnect");
+    t["planner_name"] = "RRTConnect";
+    return t;
+  });
+  // BITstar uses its whole 0.5 s per plan call: 10x to 50x slower, 5x the checks.
+  const auto optimizing = run_of(10, [](int i) {
+    nlohmann::json t = trial("reach", "minibot", i, true, 0.5, 500, "BITstar");
+    t["planner_name"] = "BITstar";
+    // The second call tried three goal poses: three planner runs of up to 0.5 s each.
+    t["plans"] = {{{"planning_time_s", 0.5}, {"planner_runs", 1}},
+                  {{"planning_time_s", 1.49}, {"planner_runs", 3}}};
+    return t;
+  });
+  PlannerBudgets budgets;
+  budgets.anytime_planners = {"BITstar"};
+  budgets.plan_time_limit_s = {{"reach", 0.5}};
+  const Comparison c = compare_trials(base, optimizing, false, {}, budgets);
+  EXPECT_FALSE(c.regression());
+  ASSERT_EQ(c.overall.by_design.size(), 2u);  // planning time and collision checks
+  EXPECT_NE(c.overall.by_design[0].find("planning time x"), std::string::npos);
+  EXPECT_NE(c.overall.by_design[1].find("collision checks x5.00"), std::string::npos);
+  const std::string md = comparison_markdown(c);
+  EXPECT_NE(md.find(kByDesign), std::string::npos) << md;
+  // Without the budgets, or past its limit, the same numbers are regressions.
+  EXPECT_TRUE(compare_trials(base, optimizing, false, {}).regression());
+  budgets.plan_time_limit_s = {{"reach", 0.2}};
+  EXPECT_TRUE(compare_trials(base, optimizing, false, {}, budgets).regression());
+}
+
+TEST(CompareTrials, NoChangeOnAGroupTooSmallToDetectOneSaysSo) {
+  const auto three = run_of(3, [](int i) { return trial("reach", "minibot", i, true, 0.01, 100); });
+  const Comparison c = compare_trials(three, three, true, {});
+  ASSERT_EQ(c.groups.size(), 1u);
+  EXPECT_EQ(no_change_text(c.groups[0], {}),
+            "no significant change (underpowered: no success change is detectable with 3 "
+            "pairs)");
+  EXPECT_NE(comparison_markdown(c).find("underpowered"), std::string::npos);
+  // 30 pairs at 100% detect a drop of about 25 points, more than the 10-point threshold.
+  const auto thirty =
+      run_of(30, [](int i) { return trial("reach", "minibot", i, true, 0.01, 100); });
+  const std::string text = no_change_text(compare_trials(thirty, thirty, true, {}).groups[0], {});
+  EXPECT_NE(text.find("underpowered: only a success drop of "), std::string::npos) << text;
+}
+
+TEST(CompareTrials, FailureLocationIsThePathOfTheFailingPrograms) {
+  nlohmann::json t = {{"failure_reason", "tidy > greet > postural(rest): invalid_goal: far"}};
+  EXPECT_EQ(failure_location(t), "tidy > greet > postural(rest)");
+  // From the failed events, innermost first in the log: outermost first in the path.
+  t = {{"failure_reason", "ik_failure: unreachable"},
+       {"events",
+        {{{"type", "started"}, {"program", "pickup"}},
+         {{"type", "failed"}, {"program", "grasp"}, {"reason", "ik_failure: unreachable"}},
+         {{"type", "failed"},
+          {"program", "pickup"},
+          {"reason", "grasp: ik_failure: unreachable"}}}}};
+  EXPECT_EQ(failure_location(t), "pickup > grasp");
+  EXPECT_EQ(failure_location({{"status", "timeout"}}), "");
+}
+
+TEST(CompareTrials, TheHtmlReportListsTheTrialsWhoseOutcomeChanged) {
+  const auto base = run_of(4, [](int i) { return trial("pickup", "tallbot", i, true, 0.02, 50); });
+  auto fresh = base;
+  fresh[1]["success"] = false;
+  fresh[1]["status"] = "ik_failure";
+  fresh[1]["failure_reason"] = "pickup > grasp: ik_failure: the cup is out of reach";
+  const Comparison c = compare_trials(base, fresh, true, {});
+  ASSERT_EQ(c.flips.size(), 1u);
+  EXPECT_EQ(c.flips[0].where, "pickup > grasp");
+  const std::string html = compare_html(c, base, fresh, nullptr, nullptr, {}, 0);
+  const size_t table = html.find("Trials whose outcome changed");
+  ASSERT_NE(table, std::string::npos);
+  EXPECT_NE(html.find("pickup.tallbot.kitchen.RRTConnect.l3.s2", table), std::string::npos);
+  EXPECT_NE(html.find("pickup &gt; grasp", table), std::string::npos);
+  // The Markdown holds the same table.
+  const std::string md = comparison_markdown(c);
+  EXPECT_NE(md.find("## Trials whose outcome changed"), std::string::npos);
+  EXPECT_NE(md.find("pickup > grasp"), std::string::npos);
+}
+
+TEST(CompareTrials, TwoPlannersRunsPairedWithoutThePlannerShowNoEmptyRows) {
+  const auto base = run_of(4, [](int i) { return trial("reach", "tallbot", i, true, 0.02, 50); });
+  const auto fresh =
+      run_of(4, [](int i) { return trial("reach", "tallbot", i, true, 0.5, 400, "BITstar"); });
+  const Comparison c = compare_trials(base, fresh, false, {});
+  EXPECT_EQ(c.overall.pairs, 4);
+  const std::string html = compare_html(c, base, fresh, nullptr, nullptr, {}, 0);
+  EXPECT_NE(html.find("RRTConnect · base (4)"), std::string::npos);
+  EXPECT_NE(html.find("BITstar · new (4)"), std::string::npos);
+  EXPECT_EQ(html.find("(0)"), std::string::npos);
 }
 
 TEST(CompareTrials, WorkCountsAreExactAndMoreChecksFail) {
@@ -472,9 +566,79 @@ TEST_F(CompareRuns, ARunAgainstItsRepeatIsNoRegressionAndFailuresArePictured) {
   EXPECT_GT(j["overall"]["work"]["collision_checks"]["base"].get<double>(), 100);
   EXPECT_NE(r.out.find("(1 failed trials pictured)"), std::string::npos) << r.out;
   const std::string html = slurp(report / "report.html");
-  EXPECT_NE(html.find("<img alt='last frame of far.minibot.office"), std::string::npos);
+  // The failed trial at the moment it failed: the overview and a close-up, and the commands
+  // that render its video with this binary.
+  EXPECT_NE(html.find("<img alt='overview of far.minibot.office"), std::string::npos);
+  EXPECT_NE(html.find("<img alt='close-up of far.minibot.office"), std::string::npos);
   EXPECT_NE(html.find("src='data:image/png;base64,iVBORw0KGgo"), std::string::npos);
   EXPECT_NE(html.find("ik_failure"), std::string::npos);
+  EXPECT_NE(html.find(" render --trial "), std::string::npos);
+  EXPECT_NE(html.find("--camera lookat:"), std::string::npos);
+  // The same build loaded the same models: no warning, and the report says so.
+  EXPECT_EQ(r.out.find("WARNING"), std::string::npos) << r.out;
+  EXPECT_NE(slurp(report / "compare.md").find("The same build loaded the same model"),
+            std::string::npos);
+  EXPECT_FALSE(j["provenance_differences"]["models_changed"].get<bool>());
+}
+
+TEST_F(CompareRuns, AModelFileEditedBetweenTwoRunsIsNamedByCompare) {
+  // A copy of the models, one run, an edit to the kitchen's MJCF (a comment: same scene,
+  // other bytes), another run.
+  const std::filesystem::path root = dir_ / "root";
+  std::filesystem::create_directories(root);
+  std::filesystem::copy(test::catalog().root() / "models", root / "models",
+                        std::filesystem::copy_options::recursive);
+  std::ofstream(dir_ / "s.yaml") << "name: one\nprogram: reach\nparams: {object: cup}\n"
+                                    "robots: [minibot]\nenvironments: [kitchen]\ntrials: 1\n"
+                                    "time_limit_s: 30\n";
+  const auto run_in = [&](const std::string& out) {
+    const ModelCatalog catalog(root);
+    RunJobOptions options;
+    options.scenario_file = dir_ / "s.yaml";
+    options.out = dir_ / out;
+    options.progress = RunJobOptions::Progress::kOff;
+    std::ostringstream o, e;
+    return run_job(catalog, registry_, options, o, e).dir;
+  };
+  const std::filesystem::path a = run_in("a");
+  const nlohmann::json provenance = nlohmann::json::parse(slurp(a / "provenance.json"));
+  std::vector<std::string> recorded;
+  for (const auto& f : provenance["model_files"]) {
+    recorded.push_back(f["path"].get<std::string>());
+    EXPECT_EQ(f["sha256"].get<std::string>().size(), 64u) << f;
+  }
+  EXPECT_EQ(recorded, (std::vector<std::string>{"models/environments/kitchen/environment.yaml",
+                                                "models/environments/kitchen/kitchen.xml",
+                                                "models/robots/minibot/minibot.xml",
+                                                "models/robots/minibot/profile.yaml"}));
+  EXPECT_EQ(provenance["build"]["commit"].get<std::string>().size(), 40u) << provenance["build"];
+
+  std::ofstream(root / "models/environments/kitchen/kitchen.xml", std::ios::app)
+      << "<!-- edited -->\n";
+  const std::filesystem::path b = run_in("b");
+  CompareJobOptions options;
+  options.base_dir = a;
+  options.new_dir = b;
+  options.report_dir = dir_ / "report";
+  std::ostringstream out;
+  const CompareJobResult r = run_compare_job(options, out);
+  EXPECT_TRUE(r.differences.models_changed());
+  ASSERT_EQ(r.differences.changed_models.size(), 1u);
+  EXPECT_EQ(r.differences.changed_models[0].path, "models/environments/kitchen/kitchen.xml");
+  EXPECT_NE(out.str().find("WARNING: the runs loaded different model files (1 changed):\n"
+                           "  models/environments/kitchen/kitchen.xml"),
+            std::string::npos)
+      << out.str();
+  EXPECT_NE(slurp(dir_ / "report" / "compare.md").find("models/environments/kitchen/kitchen.xml"),
+            std::string::npos);
+  EXPECT_NE(slurp(dir_ / "report" / "report.html").find("models/environments/kitchen/kitchen.xml"),
+            std::string::npos);
+  // The command line fails on it only when asked.
+  const std::string args = "compare '" + a.string() + "' '" + b.string() + "'";
+  EXPECT_EQ(test::run_cli(args, root).exit_code, 0);
+  const test::CommandResult failed = test::run_cli(args + " --fail-on-model-change", root);
+  EXPECT_EQ(failed.exit_code, 1) << failed.out << failed.err;
+  EXPECT_NE(failed.err.find("--fail-on-model-change"), std::string::npos) << failed.err;
 }
 
 TEST_F(CompareRuns, SeveralPlannersAreComparedOnTheSameTrials) {

@@ -194,6 +194,30 @@ TEST_F(TrialVideo, SnapshotIsAPngOfTheAskedSizeShowingTheScene) {
   }
 }
 
+TEST_F(TrialVideo, FailurePicturesAddACloseUpThatALookatCameraReproduces) {
+  const FrameOptions options{"", 160, 120};
+  const FailurePictures p = failure_pictures(test::catalog(), trial(), -1, options);
+  EXPECT_EQ(p.overview, trial_snapshot_png(test::catalog(), trial(), -1, options));
+  ASSERT_FALSE(p.close_up.empty());
+  EXPECT_NE(p.close_up, p.overview);
+  EXPECT_GT(p.time_s, 0);
+  EXPECT_FALSE(p.focus.empty());
+  // The close-up is a --camera value: rendering through it gives the same picture.
+  ASSERT_EQ(p.close_up_camera.rfind("lookat:", 0), 0u) << p.close_up_camera;
+  EXPECT_EQ(p.close_up,
+            trial_snapshot_png(test::catalog(), trial(), -1, {p.close_up_camera, 160, 120}));
+  // A malformed lookat names the option and the expected form.
+  for (const std::string bad : {"lookat:1,2", "lookat:1,x,3", "lookat:0,0,1,-1"}) {
+    try {
+      trial_snapshot_png(test::catalog(), trial(), -1, {bad, 64, 48});
+      FAIL() << bad << " was accepted";
+    } catch (const core::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--camera: '" + bad + "'"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST_F(TrialVideo, UnknownTrialAndMissingFolderAreInputErrorsAndWriteNothing) {
   const auto video = out_ / "v.mp4";
   const test::CommandResult unknown =
