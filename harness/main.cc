@@ -193,8 +193,6 @@ int main(int argc, char** argv) {
       ->add_option("--time", render_options.time,
                    "simulated time of the trial's frame in seconds (default: its last frame)")
       ->check(finite_range(0.0, 1e9));
-  render->add_option("--time", render_options.time,
-                     "simulated time of the trial's frame in seconds (default: its last frame)");
   render->add_option("--scenario", render_options.scenario,
                      "draw the world of this scenario (or a suite's first) for layout seed --seed");
   render->add_option("--seed", render_options.seed, "obstacle layout seed")
