@@ -110,6 +110,9 @@ int pairs_for_success_change(double p_base, double change, double alpha, int max
   return hi;
 }
 
+// Log-ratio spreads below this are rounding, not spread (a ratio's log is exact to ~1e-16).
+constexpr double kNoSpread = 1e-12;
+
 int wilcoxon_min_pairs(double alpha) {
   int n = 1;
   while (std::ldexp(2.0, -n) >= alpha && n < 64) ++n;
@@ -124,6 +127,9 @@ double wilcoxon_power(int pairs, double effect, double alpha) {
       boost::math::quantile(boost::math::complement(boost::math::students_t(df), alpha / 2));
   const double lambda = std::fabs(effect) * std::sqrt(n);
   if (lambda == 0) return alpha;
+  // Far beyond the critical value (under 3 for the fewest pairs a verdict needs): the power is
+  // 1 to double precision, and boost's series would overflow.
+  if (lambda > 64) return 1.0;
   const boost::math::non_central_t shifted(df, lambda);
   return boost::math::cdf(boost::math::complement(shifted, critical)) +
          boost::math::cdf(shifted, -critical);
@@ -131,7 +137,8 @@ double wilcoxon_power(int pairs, double effect, double alpha) {
 
 double detectable_time_ratio(int pairs, double log_sd, double alpha) {
   if (pairs < wilcoxon_min_pairs(alpha) || !std::isfinite(log_sd) || log_sd < 0) return NAN;
-  if (log_sd == 0) return 1.0;  // no spread: any consistent change is detected
+  // No spread (log ratios equal up to rounding): any consistent change is detected.
+  if (log_sd <= kNoSpread) return 1.0;
   const auto enough = [&](double e) { return wilcoxon_power(pairs, e, alpha) >= kTargetPower; };
   double hi = 1;
   while (!enough(hi)) hi *= 2;
@@ -141,7 +148,7 @@ double detectable_time_ratio(int pairs, double log_sd, double alpha) {
 int pairs_for_time_ratio(double ratio, double log_sd, double alpha, int max_pairs) {
   const int least = wilcoxon_min_pairs(alpha);
   if (!(ratio > 0) || ratio == 1 || !std::isfinite(log_sd) || log_sd < 0) return -1;
-  if (log_sd == 0) return least;
+  if (log_sd <= kNoSpread) return least;
   const double effect = std::fabs(std::log(ratio)) / log_sd;
   const auto enough = [&](int n) { return wilcoxon_power(n, effect, alpha) >= kTargetPower; };
   if (!enough(max_pairs)) return -1;

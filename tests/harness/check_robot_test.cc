@@ -125,7 +125,7 @@ TEST(CheckRobot, QuickRunPrintsAProgramTableAndExitsFourOnAFailure) {
   EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
   EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| postural | success |"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("| unreachable | ik_failure |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| unreachable | not_graspable |"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Programs: 1 of 2 succeeded."), std::string::npos) << r.out;
   // The run stays for inspection, in its own directory.
   const std::filesystem::path run = root.path() / "results/runs/check-robot-minibot-office";

@@ -571,7 +571,7 @@ TEST_F(CompareRuns, ARunAgainstItsRepeatIsNoRegressionAndFailuresArePictured) {
   EXPECT_NE(html.find("<img alt='overview of far.minibot.office"), std::string::npos);
   EXPECT_NE(html.find("<img alt='close-up of far.minibot.office"), std::string::npos);
   EXPECT_NE(html.find("src='data:image/png;base64,iVBORw0KGgo"), std::string::npos);
-  EXPECT_NE(html.find("ik_failure"), std::string::npos);
+  EXPECT_NE(html.find("not_graspable"), std::string::npos);
   EXPECT_NE(html.find(" render --trial "), std::string::npos);
   EXPECT_NE(html.find("--camera lookat:"), std::string::npos);
   // The same build loaded the same models: no warning, and the report says so.

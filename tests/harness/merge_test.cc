@@ -105,8 +105,8 @@ TEST(Shard, ShardsPartitionTheMatrixByStride) {
   const RunPlan plan = load_run_plan(
       test::catalog().root() / "scenarios" / "suites" / "default.yaml", test::catalog(), registry);
   const std::vector<TrialSpec> matrix = trial_matrix(plan);
-  ASSERT_EQ(matrix.size(), 144u);
-  for (int count : {1, 2, 5, 144, 200}) {
+  ASSERT_GE(matrix.size(), 144u);
+  for (int count : {1, 2, 5, static_cast<int>(matrix.size()), 300}) {
     std::multiset<std::string> all;
     for (int index = 0; index < count; ++index) {
       const std::vector<TrialSpec> shard = select_shard(matrix, {index, count, ""});

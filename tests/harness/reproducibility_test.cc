@@ -119,6 +119,8 @@ TEST(Reproducibility, TrialsRepeatBitForBitWithTwoBusyLoopsCompetingForTheCores)
     EXPECT_EQ(ca.dump(), cb.dump()) << id;
     successes += ta["success"].get<bool>();
     for (const nlohmann::json& p : ta["plans"]) {
+      // A plan that found a path names it by its digest (null: no path).
+      if (p["path_digest"].is_null()) continue;
       EXPECT_FALSE(p["path_digest"].get<std::string>().empty());
       ++plans;
     }
