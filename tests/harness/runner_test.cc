@@ -395,7 +395,7 @@ TEST_F(Runner, RecordedTrajectoriesReplayTheTrial) {
   std::vector<double> final_qpos;
   TrialOptions options;
   options.record_rate_hz = 25;
-  const auto scene = test::scene("minibot", "kitchen");
+  const auto scene = test::scene("tallbot", "kitchen");
   const TrialResult r = run_trial(
       s, scene, s.layout_seed, s.seed, registry_,
       [&](const std::string& moment, const mujoco::MujocoSkillset& skills) {
@@ -408,7 +408,7 @@ TEST_F(Runner, RecordedTrajectoriesReplayTheTrial) {
   ASSERT_EQ(r.removed_debris.size(), 5u);
   // 25 frames per simulated second, the last at the end of the trial.
   EXPECT_NEAR(static_cast<double>(r.recording.frames()), r.sim_time_s * 25, 3.0);
-  TrajectoryFile file{"minibot", "kitchen", scene->make_layout(s.obstacles, s.layout_seed),
+  TrajectoryFile file{"tallbot", "kitchen", scene->make_layout(s.obstacles, s.layout_seed),
                       r.recording, r.removed_debris};
   const auto path = dir_ / "vacuum.traj.gz";
   write_trajectory_file(path, file);
