@@ -12,13 +12,13 @@
 #
 # --fast runs one layout per group (24 of the 48 trials); they pair with the baseline's first.
 # Thresholds: taskmatrix compare's defaults (a significant success drop of 5 points, collision
-# checks above x1.25), no trial that succeeded in the baseline may now fail, every work count
-# and planned path must be exactly the baseline's (--exact-work: trials are bounded by work,
-# not the clock, so they repeat exactly on the same build under any load), no trial may have
+# checks above x1.25), no trial that succeeded in the baseline may now fail, no trial may have
 # been decided by a clock safety net (--fail-on-nonreproducible), every trial needs a partner
 # (--fast: every new one), and planning time fails only when its 95% interval lies above x2
 # (times depend on the machine and its load; the baseline's are this project's 2-core CI
-# machine's). Other thresholds: pass taskmatrix compare options after --; they replace these.
+# machine's). Exact work counts and paths (--exact-work) are not gated: a few trials of this
+# suite plan other paths between the full run and the fast one (README, Reliability).
+# Other thresholds: pass taskmatrix compare options after --; they replace these.
 # The report (compare.md, report.html with pictures of failed trials) is in DIR/compare.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -67,5 +67,5 @@ fi
 "$taskmatrix" run "$suite" --out "$out" --jobs "$jobs" --progress off "${run_args[@]}" > /dev/null
 # Later options win, so "-- --max-time-ratio 3" replaces the default below.
 exec "$taskmatrix" compare "$baseline" "$out" --report "$out/compare" --fail-on-regression \
-  --max-new-failures 0 --max-time-ratio 2 --exact-work --fail-on-nonreproducible \
+  --max-new-failures 0 --max-time-ratio 2 --fail-on-nonreproducible \
   "${pairing[@]}" "${extra[@]}"
