@@ -18,7 +18,6 @@
 #include "harness/trial_matrix.h"
 #include "harness/trial_record.h"
 #include "taskmatrix/core/input_error.h"
-#include "taskmatrix/io/text_file.h"
 
 namespace taskmatrix::harness {
 
@@ -52,10 +51,8 @@ ShardDir read_shard(const fs::path& dir) {
   if (!fs::exists(file)) {
     throw InputError(file, "", "missing: not a run directory of taskmatrix run");
   }
-  s.provenance = nlohmann::json::parse(io::read_text_file(file), nullptr, false);
-  if (s.provenance.is_discarded() || !s.provenance.is_object()) {
-    throw InputError(file, "", "not a JSON object");
-  }
+  s.provenance = read_json_file(file);  // names the file and line of malformed JSON
+  if (!s.provenance.is_object()) throw InputError(file, "", "not a JSON object");
   for (const char* key : {"scenario_hash", "matrix", "shard"}) {
     if (!s.provenance.contains(key)) {
       throw InputError(file, key,
