@@ -298,9 +298,11 @@ std::string ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
   best_miss_m_ = INFINITY;
   if (targets_.empty()) return "invalid_input: no target for " + frame_;
   const std::string side = single_side({arm_});
-  const bool holding =
-      std::any_of(ctx.skills().attached_objects().begin(), ctx.skills().attached_objects().end(),
-                  [&](const std::string& o) { return ctx.skills().holder_of(o) == side; });
+  // attached_objects() returns a new vector: iterate one copy, never begin() and end() of two.
+  const std::vector<std::string> attached = ctx.skills().attached_objects();
+  const bool holding = std::any_of(attached.begin(), attached.end(), [&](const std::string& o) {
+    return ctx.skills().holder_of(o) == side;
+  });
   if (std::optional<Escape> escape = escape_motion(ctx, side, holding ? 0.04 : 0.05)) {
     motion_.execution.may_touch.insert(motion_.execution.may_touch.end(), escape->touched.begin(),
                                        escape->touched.end());
