@@ -16,8 +16,9 @@
 # been decided by a clock safety net (--fail-on-nonreproducible), every trial needs a partner
 # (--fast: every new one), and planning time fails only when its 95% interval lies above x2
 # (times depend on the machine and its load; the baseline's are this project's 2-core CI
-# machine's). Exact work counts and paths (--exact-work) are not gated: a few trials of this
-# suite plan other paths between the full run and the fast one (README, Reliability).
+# machine's). Work counts and planned paths must equal the baseline's exactly (--exact-work):
+# they depend on the trial's id alone, so any difference is a change of behaviour (record a new
+# baseline on purpose when it is intended) or a lost guarantee (README, Reliability).
 # Other thresholds: pass taskmatrix compare options after --; they replace these.
 # The report (compare.md, report.html with pictures of failed trials) is in DIR/compare.
 set -euo pipefail
@@ -67,5 +68,5 @@ fi
 "$taskmatrix" run "$suite" --out "$out" --jobs "$jobs" --progress off "${run_args[@]}" > /dev/null
 # Later options win, so "-- --max-time-ratio 3" replaces the default below.
 exec "$taskmatrix" compare "$baseline" "$out" --report "$out/compare" --fail-on-regression \
-  --max-new-failures 0 --max-time-ratio 2 --fail-on-nonreproducible \
+  --max-new-failures 0 --max-time-ratio 2 --fail-on-nonreproducible --exact-work \
   "${pairing[@]}" "${extra[@]}"

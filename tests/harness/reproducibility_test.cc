@@ -1,12 +1,15 @@
-// A trial's result depends on its id alone, whatever the machine's load: the same trials run
-// twice through the CLI, the second time with two busy loops competing for the cores, give
+// A trial's result depends on its id alone, whatever the machine's load and whatever else the
+// process did before: the same trials run twice through the CLI, the second time with two busy
+// loops competing for the cores and another heap (glibc's thread cache off, allocations
+// filled with a byte pattern, so code that reads memory it does not own sees other bytes), give
 // the same outcomes, statuses, failure reasons, planned paths (bit for bit), work counts
 // (collision checks, planner iterations, IK calls, control periods) and executed trajectories,
 // and no clock bound decides any of them. The trials: pickup, putdown and vacuum on every robot
 // of the catalog in the kitchen (RRTConnect, whose paths are simplified), and a reach with PRM
 // (its roadmap grown under the iteration budget), each on every robot, executed kinematically
-// (README, Reliability: a physics trial was seen once to diverge on a rerun). In its own test
-// program: it takes minutes.
+// (README, Reliability: a physics trial was seen once to diverge on a rerun). One trial run
+// alone (`--only`, a fresh process) gives its line of the suite run. In its own test program:
+// it takes minutes.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -63,10 +66,10 @@ std::map<std::string, nlohmann::json> trials_of(const fs::path& dir) {
 }
 
 // The CLI as a user runs it (exit status; its stderr is in DIR.err).
-int run_cli(const std::string& args, const fs::path& err) {
-  const std::string command = "TASKMATRIX_ROOT='" + std::string(TASKMATRIX_TEST_ROOT) +
-                              "' timeout 280 " + TASKMATRIX_CLI + " " + args + " >/dev/null 2>'" +
-                              err.string() + "'";
+int run_cli(const std::string& args, const fs::path& err, const std::string& environment = "") {
+  const std::string command = environment + " TASKMATRIX_ROOT='" +
+                              std::string(TASKMATRIX_TEST_ROOT) + "' timeout 280 " +
+                              TASKMATRIX_CLI + " " + args + " >/dev/null 2>'" + err.string() + "'";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
@@ -95,7 +98,10 @@ TEST(Reproducibility, TrialsRepeatBitForBitWithTwoBusyLoopsCompetingForTheCores)
       << "suite: repro\nscenarios: [" << (programs / "pickup.yaml").string() << ", "
       << (programs / "putdown.yaml").string() << ", " << (programs / "vacuum.yaml").string()
       << ", reach_prm.yaml]\nrobots: " << robots_list()
-      << "\nenvironments: [kitchen]\ntrials: 1\nexecution: kinematic\n";
+      << "\nenvironments: [kitchen]\ntrials: 1\nexecution: kinematic\n"
+      // The wall-clock safety net far above any trial's time on a loaded machine: this test
+      // is about what decides a trial, not how long it may take.
+      << "wall_limit_s: 1200\n";
   const std::string run =
       "run " + (dir / "suite.yaml").string() + " --jobs 2 --progress off --out ";
   ASSERT_EQ(run_cli(run + (dir / "quiet").string(), dir / "quiet.err"), 0)
@@ -103,7 +109,8 @@ TEST(Reproducibility, TrialsRepeatBitForBitWithTwoBusyLoopsCompetingForTheCores)
   int busy = 0;
   {
     const BusyLoops loops(2);
-    busy = run_cli(run + (dir / "busy").string(), dir / "busy.err");
+    busy = run_cli(run + (dir / "busy").string(), dir / "busy.err",
+                   "GLIBC_TUNABLES=glibc.malloc.tcache_count=0 MALLOC_PERTURB_=85");
   }
   ASSERT_EQ(busy, 0) << slurp(dir / "busy.err");
 
@@ -142,6 +149,24 @@ TEST(Reproducibility, TrialsRepeatBitForBitWithTwoBusyLoopsCompetingForTheCores)
     EXPECT_EQ(ra.recording.times, rb.recording.times) << id;
     EXPECT_EQ(ra.recording.qpos, rb.recording.qpos) << id;
   }
+  // One carrying trial alone in a fresh process (the first putdown that succeeded): its line
+  // of the suite run.
+  std::string alone_id;
+  for (const auto& [id, t] : a) {
+    if (alone_id.empty() && id.rfind("putdown.", 0) == 0 && t["success"].get<bool>()) alone_id = id;
+  }
+  ASSERT_FALSE(alone_id.empty()) << "no putdown succeeded";
+  ASSERT_EQ(run_cli("run " + (dir / "suite.yaml").string() + " --progress off --only " + alone_id +
+                        " --out " + (dir / "alone").string(),
+                    dir / "alone.err"),
+            0)
+      << slurp(dir / "alone.err");
+  const auto alone = trials_of(dir / "alone");
+  ASSERT_EQ(alone.size(), 1u);
+  nlohmann::json ca = without_timing(a.at(alone_id)), cb = without_timing(alone.begin()->second);
+  for (nlohmann::json* c : {&ca, &cb}) c->erase("trajectory");
+  EXPECT_EQ(ca.dump(), cb.dump()) << alone_id << " alone";
+
   // The trials did real work: most succeed, and they planned.
   EXPECT_GE(successes, static_cast<int>(a.size()) / 2);
   EXPECT_GE(plans, static_cast<int>(a.size()) * 2);
