@@ -1,6 +1,7 @@
 // One control period (10 ms = 5 MuJoCo steps) of tallbot in the kitchen with 12 obstacles,
 // the left arm following a sinusoid:
-//   BM_ControlPeriod_Raw       ctrl written, 5 x mj_step
+//   BM_ControlPeriod_Raw       ctrl written, 5 x mj_step (nothing pruned; counter
+//                              contacts_per_pass: MuJoCo's contacts per mj_step)
 //   BM_ControlPeriod_Skillset  MujocoSkillset::command + advance in each execution mode:
 //     /physics            computed-torque feed-forward per step, mj_step2 then mj_step1 so
 //                         poses and contacts are current for the programs, contact pruning
@@ -59,11 +60,17 @@ void BM_ControlPeriod_Raw(benchmark::State& state) {
   }
   const std::vector<double> rest = skills->configuration({"left_arm"});
   const int substeps = static_cast<int>(std::lround(skills->control_period() / m->opt.timestep));
+  double contacts = 0, steps = 0;
   for (auto _ : state) {
     const std::vector<double> q = arm_target(rest, d->time);
     for (size_t i = 0; i < actuators.size(); ++i) d->ctrl[actuators[i]] = q[i];
-    for (int s = 0; s < substeps; ++s) mj_step(m, d.get());
+    for (int s = 0; s < substeps; ++s) {
+      mj_step(m, d.get());
+      contacts += d->ncon;
+    }
+    steps += substeps;
   }
+  state.counters["contacts_per_pass"] = contacts / std::max(1.0, steps);
 }
 BENCHMARK(BM_ControlPeriod_Raw)->Unit(benchmark::kMicrosecond);
 

@@ -19,17 +19,28 @@
 //                         the visitor, held objects)
 //     contacts_per_pass   contacts per collision detection (per timestep in physics, per
 //                         control period in kinematic mode)
+//     cpu_s_per_sim_s     the workers' CPU seconds per simulated second of the trials (everything
+//                         a trial does: planning, IK, stepping, the harness)
 //     succeeded           trials that succeeded
+//   BM_RunSuite_RawStepping  the raw MuJoCo baseline in the same run: the same 16 trials' worlds
+//                        (robot, room, drawn layout, start state with the actuators holding it)
+//                        stepped by plain mj_step, nothing pruned, for 2 simulated seconds each.
+//                        Counters cpu_s_per_sim_s (stepping only), sim_speed and
+//                        contacts_per_pass (MuJoCo's contacts per mj_step), as above.
 // Two jobs should give at least 1.6x the trials per second of one (2 cores).
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 #include "harness/model_catalog.h"
 #include "harness/run_job.h"
+#include "harness/trial.h"
+#include "harness/trial_matrix.h"
 #include "harness/trial_record.h"
 #include "taskmatrix/programs/primitives.h"
 
@@ -37,9 +48,9 @@ namespace {
 
 using namespace taskmatrix;
 
-double children_cpu_s() {
+double cpu_s(int who) {
   rusage u{};
-  getrusage(RUSAGE_CHILDREN, &u);
+  getrusage(who, &u);
   return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
@@ -61,11 +72,11 @@ void BM_RunSuite(benchmark::State& state) {
     core::ProgramRegistry registry;
     programs::register_programs(registry);
     std::ostringstream sink;
-    const double cpu0 = children_cpu_s();
+    const double cpu0 = cpu_s(RUSAGE_CHILDREN);
     const auto t0 = std::chrono::steady_clock::now();
     const harness::RunJobResult r = harness::run_job(catalog, registry, options, sink, sink);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    cpu += children_cpu_s() - cpu0;
+    cpu += cpu_s(RUSAGE_CHILDREN) - cpu0;
     trials += r.finished;
     for (const nlohmann::json& t : harness::read_trials_file(out / "trials.jsonl").trials) {
       wall += t["wall_time_s"].get<double>();
@@ -91,6 +102,7 @@ void BM_RunSuite(benchmark::State& state) {
   state.counters["ik_fraction"] = ik / wall;
   state.counters["sim_speed"] = sim / stepping;
   state.counters["contacts_per_pass"] = contacts / passes;
+  state.counters["cpu_s_per_sim_s"] = cpu / sim;
   state.counters["succeeded"] = succeeded / n;
 }
 BENCHMARK(BM_RunSuite)
@@ -102,5 +114,53 @@ BENCHMARK(BM_RunSuite)
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();
+
+void BM_RunSuite_RawStepping(benchmark::State& state) {
+  const harness::ModelCatalog catalog(TASKMATRIX_BENCH_ROOT);
+  core::ProgramRegistry registry;
+  programs::register_programs(registry);
+  const harness::RunPlan plan = harness::load_run_plan(
+      std::filesystem::path(TASKMATRIX_BENCH_ROOT) / "bench" / "runner_suite.yaml", catalog,
+      registry);
+  constexpr double kSimulatedS = 2.0;
+  std::map<std::string, std::shared_ptr<const mujoco::Scene>> scenes;
+  double cpu = 0, wall = 0, sim = 0, contacts = 0, steps = 0;
+  for (auto _ : state) {
+    for (const harness::TrialSpec& spec : harness::trial_matrix(plan)) {
+      std::shared_ptr<const mujoco::Scene>& scene = scenes[spec.robot + "/" + spec.environment];
+      if (!scene) {
+        scene = mujoco::Scene::load(catalog.robot_dir(spec.robot),
+                                    catalog.environment_dir(spec.environment));
+      }
+      // The trial's world and start state as its worker has them, nothing pruned.
+      mujoco::WorkerScene worker(scene);
+      const core::TrialLayout layout = harness::draw_trial_layout(
+          plan.scenarios[static_cast<size_t>(spec.scenario)], worker, spec.layout_seed, spec.id);
+      mujoco::SimulationOptions options;
+      options.pruning = {false, false};
+      mujoco::MujocoSkillset skills(scene, options);
+      skills.apply_layout(layout);
+      const mjModel* m = skills.model();
+      mujoco::DataPtr d = mujoco::make_data(m);
+      mju_copy(d->qpos, skills.sim_data()->qpos, m->nq);
+      mju_copy(d->ctrl, skills.sim_data()->ctrl, m->nu);
+      mj_forward(m, d.get());
+      const double cpu0 = cpu_s(RUSAGE_SELF);
+      const auto t0 = std::chrono::steady_clock::now();
+      while (d->time < kSimulatedS) {
+        mj_step(m, d.get());
+        contacts += d->ncon;
+        steps += 1;
+      }
+      wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      cpu += cpu_s(RUSAGE_SELF) - cpu0;
+      sim += d->time;
+    }
+  }
+  state.counters["cpu_s_per_sim_s"] = cpu / sim;
+  state.counters["sim_speed"] = sim / wall;
+  state.counters["contacts_per_pass"] = contacts / steps;
+}
+BENCHMARK(BM_RunSuite_RawStepping)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace

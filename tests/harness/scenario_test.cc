@@ -3,10 +3,12 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 
 #include "harness/run_job.h"
 #include "harness/scenario.h"
 #include "harness/summary.h"
+#include "harness/trial.h"
 #include "harness/trial_matrix.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/programs/primitives.h"
@@ -232,6 +234,48 @@ TEST_F(ScenarioFiles, ValidateChecksLayoutsBeforeAnything) {
   const auto crowded = write("c.yaml", std::string(kReach) + "obstacles: {count: 400}\n");
   EXPECT_THROW(validate_run_plan(test::catalog(), registry_, crowded), core::InputError);
   EXPECT_EQ(validate_run_plan(test::catalog(), registry_, write("ok.yaml", kReach)), 1);
+}
+
+// The obstacle density suite (scenarios/suites/obstacle_density.yaml) puts its obstacles where
+// they interfere with the task: in every one of its 720 trials' worlds a density of n holds n
+// obstacles, three quarters of them on the table within 0.35 m of the cup.
+TEST_F(ScenarioFiles, ObstacleDensitySuitePlacesItsObstaclesAroundTheCup) {
+  const ModelCatalog catalog(TASKMATRIX_TEST_ROOT);
+  const RunPlan plan = load_run_plan(
+      catalog.root() / "scenarios" / "suites" / "obstacle_density.yaml", catalog, registry_);
+  const std::vector<TrialSpec> trials = trial_matrix(plan);
+  ASSERT_EQ(trials.size(), 720U);
+  std::map<int, int> trials_per_density;
+  std::map<std::string, std::shared_ptr<const mujoco::Scene>> scenes;  // one room: the kitchen
+  for (const TrialSpec& t : trials) {
+    const Scenario& scenario = plan.scenarios[static_cast<size_t>(t.scenario)];
+    const int n = std::stoi(scenario.name.substr(scenario.name.rfind("_n") + 2));
+    ++trials_per_density[n];
+    std::shared_ptr<const mujoco::Scene>& scene = scenes[t.robot];
+    if (!scene) {
+      scene =
+          mujoco::Scene::load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
+    }
+    mujoco::WorkerScene worker(scene);
+    const core::TrialLayout layout = draw_trial_layout(scenario, worker, t.layout_seed, t.id);
+    worker.reset_to_start();
+    const int cup = mj_name2id(worker.model(), mjOBJ_BODY, "cup");
+    ASSERT_GE(cup, 0);
+    const double* c = worker.data()->xpos + 3 * cup;
+    ASSERT_EQ(static_cast<int>(layout.obstacles.obstacles.size()), n) << t.id;
+    int near = 0;
+    for (const core::PlacedObstacle& o : layout.obstacles.obstacles) {
+      if (o.group < 0 ||
+          layout.obstacles.groups[static_cast<size_t>(o.group)] != "obstacles near cup") {
+        continue;
+      }
+      ++near;
+      EXPECT_LE(std::hypot(o.position.x() - c[0], o.position.y() - c[1]), 0.35 + 1e-9) << t.id;
+      EXPECT_GT(o.position.z(), c[2] - 0.1) << t.id << ": not on the table";
+    }
+    EXPECT_EQ(near, 3 * n / 4) << t.id;
+  }
+  EXPECT_EQ(trials_per_density, (std::map<int, int>{{0, 180}, {4, 180}, {8, 180}, {12, 180}}));
 }
 
 TEST(Statistics, WilsonIntervalMatchesPublishedValues) {
