@@ -17,12 +17,16 @@
 #include <random>
 
 #include "harness/model_catalog.h"
+#include "harness/planner_plugins.h"
 #include "taskmatrix/mujoco/motion_planner.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 
 namespace {
 
 using namespace taskmatrix;
+
+// The benchmarks plan with the built-in planners, registered as the CLI registers them.
+[[maybe_unused]] const bool builtin_planners = (harness::register_builtin_planners(), true);
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 

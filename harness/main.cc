@@ -18,6 +18,7 @@
 #include "harness/compare_job.h"
 #include "harness/merge_job.h"
 #include "harness/model_catalog.h"
+#include "harness/planner_plugins.h"
 #include "harness/replay.h"
 #include "harness/run_job.h"
 #include "harness/scenario.h"
@@ -25,8 +26,8 @@
 #include "harness/trial.h"
 #include "harness/trial_video.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/core/obstacle_layout.h"
-#include "taskmatrix/mujoco/motion_planner.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/programs/primitives.h"
@@ -440,6 +441,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    taskmatrix::harness::register_builtin_planners();
     if (*bench_compare) {
       return taskmatrix::harness::run_bench_compare(bench_base, bench_new, bench_options,
                                                     bench_fail, std::cout);
@@ -447,8 +449,9 @@ int main(int argc, char** argv) {
     if (*list && (list_what == "programs" || list_what == "planners")) {
       taskmatrix::core::ProgramRegistry registry;
       taskmatrix::programs::register_programs(registry);
-      for (const std::string& name :
-           list_what == "programs" ? registry.names() : taskmatrix::mujoco::planner_names()) {
+      for (const std::string& name : list_what == "programs"
+                                         ? registry.names()
+                                         : taskmatrix::core::planner_registry().names()) {
         std::cout << name << "\n";
       }
       return 0;

@@ -4,8 +4,9 @@
 #include <cstdio>
 
 #include "harness/html_report.h"
+#include "harness/planner_plugins.h"
 #include "harness/summary.h"
-#include "taskmatrix/mujoco/motion_planner.h"
+#include "taskmatrix/core/motion_planning.h"
 
 namespace taskmatrix::harness {
 
@@ -20,6 +21,14 @@ std::vector<nlohmann::json> of_planner(const std::vector<nlohmann::json>& trials
   return out;
 }
 
+// Whether the registered planner optimizes its path until its budget is spent (false for a
+// name this process has not registered, e.g. a plugin it has not loaded).
+bool optimizes_paths(const std::string& name) {
+  register_builtin_planners();
+  const core::PlannerType* type = core::planner_registry().find(name);
+  return type != nullptr && type->optimizes_paths;
+}
+
 }  // namespace
 
 PlannerBudgets planner_budgets(const RunPlan& plan) {
@@ -27,7 +36,7 @@ PlannerBudgets planner_budgets(const RunPlan& plan) {
   for (const Scenario& s : plan.scenarios) {
     b.plan_time_limit_s[s.name] = s.plan_time_limit_s;
     for (const PlannerConfig& pc : s.planners) {
-      if (mujoco::planner_optimizes_paths(pc.spec.name)) b.anytime_planners.insert(pc.spec.name);
+      if (optimizes_paths(pc.spec.name)) b.anytime_planners.insert(pc.spec.name);
     }
   }
   return b;
@@ -49,7 +58,7 @@ PlannerBudgets planner_budgets(const nlohmann::json& provenance) {
     for (const nlohmann::json& p : s["planners"]) {
       if (!p.is_object() || !p.contains("name") || !p["name"].is_string()) continue;
       const std::string name = p["name"].get<std::string>();
-      if (mujoco::planner_optimizes_paths(name)) b.anytime_planners.insert(name);
+      if (optimizes_paths(name)) b.anytime_planners.insert(name);
     }
   }
   return b;

@@ -4,12 +4,13 @@
 #include <cctype>
 #include <tuple>
 
+#include "harness/planner_plugins.h"
 #include "taskmatrix/core/conditions.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/io/machine_file.h"
 #include "taskmatrix/io/text_file.h"
 #include "taskmatrix/io/yaml_reader.h"
-#include "taskmatrix/mujoco/motion_planner.h"
 
 namespace taskmatrix::harness {
 
@@ -66,15 +67,33 @@ std::vector<std::string> read_names(const io::YamlNode& node, const std::vector<
   return names;
 }
 
-std::vector<PlannerConfig> read_planners(const io::YamlNode& node) {
+// `base`: the folder of the file that lists the planners (plugin paths are relative to it).
+std::vector<PlannerConfig> read_planners(const io::YamlNode& node,
+                                         const std::filesystem::path& base) {
   std::vector<PlannerConfig> out;
   for (const io::YamlNode& item : node.items()) {
     PlannerConfig p;
     if (item.is_scalar()) {
       p.spec.name = item.as_string();
     } else {
-      item.expect_keys({"name", "label", "params"});
+      item.expect_keys({"name", "label", "params", "plugin"});
       p.spec.name = item.required("name").as_string();
+      if (auto plugin = item.optional("plugin")) {
+        std::filesystem::path library = plugin->as_string();
+        if (library.is_relative()) library = base / library;
+        std::vector<std::string> names;
+        try {
+          names = load_planner_plugin(library);
+        } catch (const std::runtime_error& e) {
+          plugin->fail(e.what());
+        }
+        if (std::find(names.begin(), names.end(), p.spec.name) == names.end()) {
+          std::string list;
+          for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+          item.required("name").fail("planner plugin " + library.string() + " registers no '" +
+                                     p.spec.name + "' (it registers: " + list + ")");
+        }
+      }
       if (auto params = item.optional("params")) {
         for (const auto& [key, value] : params->entries()) p.spec.params[key] = value.as_string();
       }
@@ -83,7 +102,13 @@ std::vector<PlannerConfig> read_planners(const io::YamlNode& node) {
     if (const std::string bad = unsafe_name_reason("planner label", p.label); !bad.empty()) {
       item.fail(bad);
     }
-    if (const std::string bad = check_planner(p.spec); !bad.empty()) item.fail(bad);
+    if (const std::string bad = check_planner(p.spec); !bad.empty()) {
+      if (item.is_scalar() || !item.has("params") ||
+          core::planner_registry().find(p.spec.name) == nullptr) {
+        item.fail(bad);
+      }
+      item.required("params").fail(bad);
+    }
     for (const PlannerConfig& q : out) {
       if (q.label == p.label) item.fail("planner label '" + p.label + "' appears twice");
     }
@@ -186,7 +211,8 @@ int read_trials(const io::YamlNode& node) {
 }  // namespace
 
 std::string check_planner(const core::PlannerSpec& spec) {
-  return mujoco::check_planner_spec(spec);
+  register_builtin_planners();
+  return core::planner_registry().check(spec.name, spec.params);
 }
 
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
@@ -260,7 +286,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
   if (auto o = root.optional("obstacles")) s.obstacles = read_obstacles(*o, s.key_lines);
   s.variation = read_variation(root, s.key_lines);
   s.variation_file = file;
-  if (auto p = root.optional("planners")) s.planners = read_planners(*p);
+  if (auto p = root.optional("planners")) s.planners = read_planners(*p, file.parent_path());
   if (auto seed = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*seed);
   if (auto seed = root.optional("seed")) s.seed = read_seed(*seed);
   if (auto trials = root.optional("trials")) s.trials = read_trials(*trials);
@@ -328,7 +354,7 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     if (auto n = root.optional("trials")) s.trials = read_trials(*n);
     if (auto n = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*n);
     if (auto n = root.optional("seed")) s.seed = read_seed(*n);
-    if (auto n = root.optional("planners")) s.planners = read_planners(*n);
+    if (auto n = root.optional("planners")) s.planners = read_planners(*n, file.parent_path());
     if (auto n = root.optional("robots")) s.robots = read_names(*n, catalog.robots(), "robot");
     if (auto n = root.optional("environments")) {
       s.environments = read_names(*n, catalog.environments(), "environment");

@@ -27,8 +27,9 @@ struct ProgramCall {
   core::RawParams params;
 };
 
-// A planner of the trial matrix: OMPL's name and parameters, under a label (default: the
-// name) that names it in trial ids and results, so one planner may appear with two settings.
+// A planner of the trial matrix: a registered planner's name and parameters (a plugin's once
+// its `plugin:` is loaded), under a label (default: the name) that names it in trial ids and
+// results, so one planner may appear with two settings.
 struct PlannerConfig {
   std::string label;
   core::PlannerSpec spec;
@@ -104,8 +105,8 @@ struct RunOverrides {
 };
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides);
 
-// Checks a planner name and parameters against OMPL's (the backend's planner table).
-// Returns "" or what is wrong.
+// Checks a planner name and parameters against the planner registry (built-in planners and
+// plugins loaded so far: harness/planner_plugins.h). Returns "" or what is wrong.
 std::string check_planner(const core::PlannerSpec& spec);
 
 }  // namespace taskmatrix::harness

@@ -1,5 +1,6 @@
-// A trial as one line of trials.jsonl (the DESIGN.md contract; fields are added, never
-// renamed), and reading a trials.jsonl back (a torn last line, from a killed run, is ignored).
+// A trial as one line of trials.jsonl (the contract of docs/architecture.md; fields are added,
+// never renamed), and reading a trials.jsonl back (a torn last line, from a killed run, is
+// ignored).
 //
 // Fields: trial_id, scenario, robot, environment, program, planner (label), planner_name,
 // execution, seed, layout_seed, success, status, failure_reason, planning_time_s,

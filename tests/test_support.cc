@@ -12,7 +12,12 @@
 #include <mutex>
 #include <sstream>
 
+#include "harness/planner_plugins.h"
+
 namespace taskmatrix::test {
+
+// Tests plan with the built-in planners, registered as the CLI registers them.
+[[maybe_unused]] const bool builtin_planners = (harness::register_builtin_planners(), true);
 
 const harness::ModelCatalog& catalog() {
   static const harness::ModelCatalog c = [] {

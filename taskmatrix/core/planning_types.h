@@ -35,8 +35,8 @@ struct IkOptions {
   std::uint64_t seed = 1;
 };
 
-// An OMPL geometric planner by name (see the backend's planner_names()) with parameters by
-// OMPL's own names, e.g. {"range": "0.5"}.
+// A registered planner by name (core::planner_registry(), motion_planning.h) with parameters
+// by the planner's own names, e.g. {"range": "0.5"} for OMPL's RRTConnect.
 struct PlannerSpec {
   std::string name = "RRTConnect";
   std::map<std::string, std::string> params;

@@ -14,28 +14,13 @@
 #include <vector>
 
 #include "taskmatrix/core/conditions.h"
+#include "taskmatrix/core/parameters.h"
 #include "taskmatrix/core/perceptual_model.h"
 #include "taskmatrix/core/skillset.h"
 
 namespace taskmatrix::core {
 
-// ---- Parameters.
-enum class ParamType { kString, kNumber, kInteger, kBool, kStringList };
-const char* to_string(ParamType type);
-using ParamValue = std::variant<std::string, double, std::int64_t, bool, std::vector<std::string>>;
-
-struct ParamSpec {
-  std::string name;
-  ParamType type = ParamType::kString;
-  bool required = true;
-  ParamValue default_value;          // used when not required and not given
-  std::vector<std::string> choices;  // for strings: allowed values (empty: any)
-  std::string doc;
-};
-
-// Raw parameter text as written in a scenario or machine file, by name.
-using RawParams = std::map<std::string, std::string>;
-
+// ---- Parameters (types and specs: parameters.h).
 // Checked, typed parameters of one program instance.
 class Params {
  public:

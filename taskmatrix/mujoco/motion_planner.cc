@@ -1,274 +1,23 @@
 #include "taskmatrix/mujoco/motion_planner.h"
 
-#include <ompl/base/PlannerTerminationCondition.h>
-#include <ompl/base/ProblemDefinition.h>
-#include <ompl/base/SpaceInformation.h>
-#include <ompl/base/goals/GoalStates.h>
-#include <ompl/base/spaces/RealVectorStateSpace.h>
-#include <ompl/base/terminationconditions/IterationTerminationCondition.h>
-#include <ompl/geometric/PathGeometric.h>
-#include <ompl/geometric/PathSimplifier.h>
-#include <ompl/geometric/planners/est/BiEST.h>
-#include <ompl/geometric/planners/est/EST.h>
-#include <ompl/geometric/planners/informedtrees/BITstar.h>
-#include <ompl/geometric/planners/kpiece/BKPIECE1.h>
-#include <ompl/geometric/planners/kpiece/KPIECE1.h>
-#include <ompl/geometric/planners/prm/LazyPRM.h>
-#include <ompl/geometric/planners/prm/PRM.h>
-#include <ompl/geometric/planners/rrt/RRT.h>
-#include <ompl/geometric/planners/rrt/RRTConnect.h>
-#include <ompl/geometric/planners/rrt/RRTstar.h>
-#include <ompl/geometric/planners/sbl/SBL.h>
-#include <ompl/tools/config/MagicConstants.h>
-#include <ompl/util/Console.h>
-#include <ompl/util/RandomNumbers.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <optional>
+#include <stdexcept>
 
+#include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 
 namespace taskmatrix::mujoco {
-
-namespace ob = ompl::base;
-namespace og = ompl::geometric;
 
 namespace {
 
 constexpr double kLimitSlack = 0.02;      // rad or m
 constexpr double kEndpointRadius = 0.25;  // rad or m
-constexpr double kMaxTimeLimitS = 86400;  // beyond it, OMPL's deadline arithmetic overflows
-
-// OMPL reports reseeding after RNGs exist as an error; reseeding is deliberate here.
-class QuietOmplOutput : public ompl::msg::OutputHandler {
- public:
-  void log(const std::string& text, ompl::msg::LogLevel level, const char*, int) override {
-    if (level >= ompl::msg::LOG_ERROR &&
-        text.find("Random number generation already started") == std::string::npos) {
-      std::fprintf(stderr, "taskmatrix: OMPL: %s\n", text.c_str());
-    }
-  }
-};
-
-std::mutex& planning_mutex() {
-  static std::mutex m;
-  return m;
-}
-
-void use_quiet_output() {
-  static QuietOmplOutput quiet;
-  ompl::msg::useOutputHandler(&quiet);
-}
-
-// OMPL's setParam returns false for some bad values and throws for others.
-bool set_param(ob::Planner& planner, const std::string& key, const std::string& value) {
-  try {
-    return planner.params().setParam(key, value);
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// The planner's termination condition: an iteration budget (when given) checked before a
-// clock bound, latched, so that the result says which of the two stopped the planner.
-class Budget {
- public:
-  Budget(std::uint64_t max_iterations, double time_limit_s)
-      : max_iterations_(max_iterations),
-        deadline_(std::chrono::steady_clock::now() +
-                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                      std::chrono::duration<double>(time_limit_s))) {}
-  bool operator()() {
-    if (iterations_out_ || clock_out_) return true;
-    ++evaluations_;
-    if (max_iterations_ > 0 && evaluations_ > max_iterations_) return iterations_out_ = true;
-    if (std::chrono::steady_clock::now() > deadline_) return clock_out_ = true;
-    return false;
-  }
-  bool clock_out() const { return clock_out_; }
-  bool iterations_out() const { return iterations_out_; }
-  std::uint64_t evaluations() const { return evaluations_; }
-
- private:
-  std::uint64_t max_iterations_;
-  std::chrono::steady_clock::time_point deadline_;
-  std::uint64_t evaluations_ = 0;
-  bool iterations_out_ = false, clock_out_ = false;
-};
-
-// OMPL's PRM checks for a solution in a second thread that polls every millisecond and grows
-// its roadmap in phases bounded by the clock (ROADMAP_BUILD_TIME), so where it stops depends
-// on the machine even under an iteration budget. This PRM runs in one thread: it alternates
-// growing (kPhaseIterations x 2) and expanding (kPhaseIterations), OMPL's 2:1 ratio counted in
-// iterations, and looks for a solution after every phase.
-class SingleThreadPRM : public og::PRM {
- public:
-  using og::PRM::PRM;
-
-  ob::PlannerStatus solve(const ob::PlannerTerminationCondition& ptc) override {
-    checkValidity();
-    auto* goal = dynamic_cast<ob::GoalSampleableRegion*>(pdef_->getGoal().get());
-    if (goal == nullptr) return ob::PlannerStatus::UNRECOGNIZED_GOAL_TYPE;
-    while (const ob::State* st = pis_.nextStart())
-      startM_.push_back(addMilestone(si_->cloneState(st)));
-    if (startM_.empty()) return ob::PlannerStatus::INVALID_START;
-    if (!goal->couldSample()) return ob::PlannerStatus::INVALID_GOAL;
-    while (goal->maxSampleCount() > goalM_.size()) {
-      const ob::State* st = pis_.nextGoal();
-      if (st == nullptr) break;
-      goalM_.push_back(addMilestone(si_->cloneState(st)));
-    }
-    if (goalM_.empty()) return ob::PlannerStatus::INVALID_GOAL;
-    if (!sampler_) sampler_ = si_->allocValidStateSampler();
-    if (!simpleSampler_) simpleSampler_ = si_->allocStateSampler();
-    std::vector<ob::State*> work(kRandomBounceSteps);
-    si_->allocStates(work);
-    bestCost_ = opt_->infiniteCost();
-    ob::PathPtr solution;
-    bool satisfied = false, grow = true;
-    while (!satisfied && !ptc) {
-      ob::IterationTerminationCondition phase(grow ? 2 * kPhaseIterations : kPhaseIterations);
-      const ob::PlannerTerminationCondition bounded = ob::plannerOrTerminationCondition(ptc, phase);
-      if (grow) {
-        growRoadmap(bounded, work[0]);
-      } else {
-        expandRoadmap(bounded, work);
-      }
-      grow = !grow;
-      satisfied = maybeConstructSolution(startM_, goalM_, solution);
-    }
-    si_->freeStates(work);
-    if (solution) {
-      ob::PlannerSolution psol(solution);
-      psol.setPlannerName(getName());
-      psol.setOptimized(opt_, bestCost_, satisfied);
-      pdef_->addSolutionPath(psol);
-      return ob::PlannerStatus::EXACT_SOLUTION;
-    }
-    const ob::Cost diff = constructApproximateSolution(startM_, goalM_, solution);
-    if (!opt_->isFinite(diff)) return ob::PlannerStatus::TIMEOUT;
-    pdef_->addSolutionPath(solution, true, diff.value(), getName());
-    return ob::PlannerStatus::APPROXIMATE_SOLUTION;
-  }
-
- private:
-  static constexpr unsigned kPhaseIterations = 50;
-  static constexpr unsigned kRandomBounceSteps = 5;  // PRM.cpp's own
-};
-
-// OMPL's PathSimplifier::simplify, with each step's work fixed instead of bounded by the clock:
-// per round, shortcutting and connecting to a better goal (up to 5 times while they improve),
-// B-spline smoothing (3 subdivisions), a repair pass, vertex reduction and collapsing of close
-// vertices (reduction repeated up to 5 times while it helps), a repair pass; rounds stop early
-// when vertex reduction no longer helps. The same path and seed give the same result; `safety`
-// (the clock) is checked between steps. Returns the rounds run.
-int simplify_path(og::PathSimplifier& simplifier, og::PathGeometric& path, int rounds,
-                  const std::function<bool()>& safety) {
-  const ob::PlannerTerminationCondition never = ob::plannerNonTerminatingCondition();
-  int done = 0;
-  for (; done < rounds && path.getStateCount() >= 3; ++done) {
-    for (int k = 0; k < 5; ++k) {
-      const bool shortcut = simplifier.shortcutPath(path);
-      const bool better_goal = simplifier.findBetterGoal(path, never);
-      if (!(shortcut || better_goal) || safety()) break;
-    }
-    if (safety()) break;
-    simplifier.smoothBSpline(path, 3, path.length() / 100.0);
-    path.checkAndRepair(ompl::magic::MAX_VALID_SAMPLE_ATTEMPTS);
-    if (safety()) break;
-    bool more = simplifier.reduceVertices(path);
-    simplifier.collapseCloseVertices(path);
-    for (int k = 0; k < 5 && more && !safety(); ++k) more = simplifier.reduceVertices(path);
-    path.checkAndRepair(ompl::magic::MAX_VALID_SAMPLE_ATTEMPTS);
-    if (!more) {
-      ++done;
-      break;
-    }
-  }
-  return done;
-}
-
-using Factory = std::function<ob::PlannerPtr(const ob::SpaceInformationPtr&)>;
-
-const std::map<std::string, Factory>& factories() {
-  static const std::map<std::string, Factory> f = {
-      {"BiEST", [](auto si) { return std::make_shared<og::BiEST>(si); }},
-      {"BITstar", [](auto si) { return std::make_shared<og::BITstar>(si); }},
-      {"BKPIECE1", [](auto si) { return std::make_shared<og::BKPIECE1>(si); }},
-      {"EST", [](auto si) { return std::make_shared<og::EST>(si); }},
-      {"KPIECE1", [](auto si) { return std::make_shared<og::KPIECE1>(si); }},
-      {"LazyPRM", [](auto si) { return std::make_shared<og::LazyPRM>(si); }},
-      {"PRM", [](auto si) { return std::make_shared<SingleThreadPRM>(si); }},
-      {"RRT", [](auto si) { return std::make_shared<og::RRT>(si); }},
-      {"RRTConnect", [](auto si) { return std::make_shared<og::RRTConnect>(si); }},
-      {"RRTstar", [](auto si) { return std::make_shared<og::RRTstar>(si); }},
-      {"SBL", [](auto si) { return std::make_shared<og::SBL>(si); }},
-  };
-  return f;
-}
+constexpr double kMaxTimeLimitS = 86400;  // beyond it, planners' deadline arithmetic overflows
 
 }  // namespace
-
-std::vector<std::string> planner_names() {
-  std::vector<std::string> names;
-  for (const auto& [name, f] : factories()) names.push_back(name);
-  return names;
-}
-
-namespace {
-
-// A free 2-D unit square, to make a planner for asking about it (call with the planning lock).
-ob::SpaceInformationPtr unit_space_info() {
-  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
-  space->setBounds(0.0, 1.0);
-  auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker([](const ob::State*) { return true; });
-  si->setup();
-  return si;
-}
-
-}  // namespace
-
-bool planner_optimizes_paths(const std::string& name) {
-  const auto factory = factories().find(name);
-  if (factory == factories().end()) return false;
-  std::lock_guard<std::mutex> lock(planning_mutex());
-  use_quiet_output();
-  return factory->second(unit_space_info())->getSpecs().optimizingPaths;
-}
-
-std::string check_planner_spec(const PlannerSpec& spec) {
-  const auto factory = factories().find(spec.name);
-  if (factory == factories().end()) {
-    std::string known;
-    for (const auto& [name, f] : factories()) known += (known.empty() ? "" : ", ") + name;
-    return "unknown planner '" + spec.name + "' (known: " + known + ")";
-  }
-  std::lock_guard<std::mutex> lock(planning_mutex());
-  use_quiet_output();
-  ob::PlannerPtr planner = factory->second(unit_space_info());
-  for (const auto& [key, value] : spec.params) {
-    if (!planner->params().hasParam(key)) {
-      std::vector<std::string> names;
-      planner->params().getParamNames(names);
-      std::string known;
-      for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-      return "planner " + spec.name + " has no parameter '" + key + "' (known: " + known + ")";
-    }
-    if (!set_param(*planner, key, value)) {
-      return "planner " + spec.name + " parameter " + key + " rejects '" + value + "'";
-    }
-  }
-  return "";
-}
 
 MotionPlanner::MotionPlanner(const Scene& scene, const mjModel* m, mjData* d,
                              std::vector<int> joints, std::vector<Attachment> attachments,
@@ -294,8 +43,8 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     result.message = std::move(message);
     return result;
   };
-  const auto factory = factories().find(o.planner.name);
-  if (factory == factories().end())
+  const core::PlannerRegistry& planners = core::planner_registry();
+  if (planners.find(o.planner.name) == nullptr)
     return fail(core::PlanStatus::kInvalidInput, "unknown planner '" + o.planner.name + "'");
   if (n == 0 || goals.empty()) return fail(core::PlanStatus::kInvalidInput, "no joints or no goal");
   if (!(o.time_limit_s > 0 && o.time_limit_s <= kMaxTimeLimitS) ||
@@ -334,10 +83,6 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
       }
     }
   }
-
-  std::lock_guard<std::mutex> lock(planning_mutex());
-  use_quiet_output();
-  ompl::RNG::setSeed(o.seed);
 
   const std::vector<double> saved(d->qpos, d->qpos + m->nq);
   for (size_t i = 0; i < n; ++i) d->qpos[m->jnt_qposadr[joints_[i]]] = start[i];
@@ -380,14 +125,6 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
                     contacts);
   }
 
-  auto space = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned>(n));
-  ob::RealVectorBounds bounds(static_cast<unsigned>(n));
-  for (size_t i = 0; i < n; ++i) {
-    bounds.setLow(static_cast<unsigned>(i), lo[i]);
-    bounds.setHigh(static_cast<unsigned>(i), hi[i]);
-  }
-  space->setBounds(bounds);
-  auto si = std::make_shared<ob::SpaceInformation>(space);
   // Clearance: states keep o.clearance_m from obstacles, except within kEndpointRadius (joint
   // space, max-norm) of the start or a goal, which may be closer (a hand next to what it will
   // grasp). Without it, simplified paths graze obstacles and execution, which tracks the
@@ -406,29 +143,32 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     return false;
   };
   const double clearance = o.clearance_m;
-  si->setStateValidityChecker([&, clearance](const ob::State* s) {
-    const auto* v = s->as<ob::RealVectorStateSpace::StateType>()->values;
+  core::PlanningProblem problem;
+  for (size_t i = 0; i < n; ++i) {
+    const char* joint = mj_id2name(m, mjOBJ_JOINT, joints_[i]);
+    problem.joint_names.push_back(joint ? joint : "");
+  }
+  problem.lower = lo;
+  problem.upper = hi;
+  problem.start = start;
+  problem.is_valid = [&, clearance](const double* v) {
     if (start_touches_allowed && near(v, start)) return !touching->in_collision(v);
     if (clearance > 0) {
       if (!checker.within_margin(v, clearance)) return true;
       if (!near_endpoint(v)) return false;
     }
     return !checker.in_collision(v, /*count=*/clearance <= 0);
-  });
-  si->setStateValidityCheckingResolution(o.motion_resolution);
-  si->setup();
-
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<> s(space);
-  for (size_t i = 0; i < n; ++i) s[i] = start[i];
-  pdef->addStartState(s);
-  auto goal_states = std::make_shared<ob::GoalStates>(si);
+  };
+  problem.motion_resolution = o.motion_resolution;
+  problem.max_iterations = o.max_iterations;
+  problem.time_limit_s = o.time_limit_s;
+  problem.simplify_rounds = o.simplify_rounds;
+  problem.simplify_time_s = o.simplify_time_s;
+  problem.seed = o.seed;
   std::vector<int> goal_index_of_state;
   for (size_t k = 0; k < goals.size(); ++k) {
     if (!within(goals[k]) || checker.in_collision(goals[k].data())) continue;
-    ob::ScopedState<> g(space);
-    for (size_t i = 0; i < n; ++i) g[i] = goals[k][i];
-    goal_states->addState(g);
+    problem.goals.push_back(goals[k]);
     goal_index_of_state.push_back(static_cast<int>(k));
   }
   if (goal_index_of_state.empty()) {
@@ -437,89 +177,88 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
                                                     ? "the goal configuration is in collision"
                                                     : "every goal configuration is in collision");
   }
-  pdef->setGoal(goal_states);
 
-  ob::PlannerPtr planner = factory->second(si);
-  for (const auto& [key, value] : o.planner.params) {
-    if (!planner->params().hasParam(key)) {
+  std::unique_ptr<core::Planner> planner;
+  try {
+    planner = planners.make(o.planner.name, o.planner.params);
+  } catch (const std::invalid_argument& e) {
+    restore();
+    return fail(core::PlanStatus::kInvalidInput, e.what());
+  }
+  const std::uint64_t checks_before = checker.checks() + (touching ? touching->checks() : 0);
+  core::PlannerResult planned;
+  try {
+    planned = planner->solve(problem);
+  } catch (const std::exception& e) {
+    restore();
+    return fail(core::PlanStatus::kInvalidInput,
+                "planner " + o.planner.name + " failed: " + e.what());
+  }
+  if (planned.status == core::PlannerStatus::kExactSolution ||
+      planned.status == core::PlannerStatus::kApproximateSolution) {
+    const bool malformed =
+        planned.path.empty() ||
+        std::any_of(planned.path.begin(), planned.path.end(), [n](const core::Configuration& q) {
+          return q.size() != n ||
+                 !std::all_of(q.begin(), q.end(), [](double v) { return std::isfinite(v); });
+        });
+    if (malformed) {
       restore();
       return fail(core::PlanStatus::kInvalidInput,
-                  "planner " + o.planner.name + " has no parameter '" + key + "'");
-    }
-    if (!set_param(*planner, key, value)) {
-      restore();
-      return fail(core::PlanStatus::kInvalidInput,
-                  "planner parameter " + key + " rejects '" + value + "'");
+                  "planner " + o.planner.name +
+                      " returned a path that is empty or has a waypoint of the wrong size or "
+                      "not finite");
     }
   }
-  planner->setProblemDefinition(pdef);
-  planner->setup();
-
-  const std::uint64_t checks_before = checker.checks() + (touching ? touching->checks() : 0);
-  Budget budget(o.max_iterations, o.time_limit_s);
-  const ob::PlannerTerminationCondition ptc([&budget] { return budget(); });
-  const auto t_plan = std::chrono::steady_clock::now();
-  const ob::PlannerStatus status = planner->solve(ptc);
-  result.planning_time_s = seconds_since(t_plan);
+  result.planning_time_s = planned.planning_time_s;
+  result.simplification_time_s = planned.simplification_time_s;
   result.plan_calls = 1;
-  result.planner_iterations = budget.evaluations();
-  // The clock decided when it stopped the planner: always for a planner that runs to its limit,
-  // and for one that stops at a solution when it had none yet.
-  result.planning_hit_time_limit = budget.clock_out();
-  ob::PlannerData data(si);
-  planner->getPlannerData(data);
-  result.graph_states = data.numVertices();
-
-  if (status == ob::PlannerStatus::APPROXIMATE_SOLUTION) {
-    result.status = core::PlanStatus::kApproximateSolution;
-    result.message = "OMPL found only an approximate solution";
-  } else if (status == ob::PlannerStatus::EXACT_SOLUTION) {
-    result.status = core::PlanStatus::kExactSolution;
-  } else if (status == ob::PlannerStatus::TIMEOUT || status == ob::PlannerStatus::UNKNOWN) {
-    result.status = core::PlanStatus::kTimeout;
-    char buf[120];
-    if (budget.iterations_out()) {
-      std::snprintf(buf, sizeof buf, "no path within %u iterations", o.max_iterations);
-    } else {
-      std::snprintf(buf, sizeof buf, "no path within %g s", o.time_limit_s);
+  result.planner_iterations = planned.iterations;
+  result.planning_hit_time_limit = planned.hit_time_limit;
+  result.simplification_hit_time_limit = planned.simplification_hit_time_limit;
+  if (const auto g = planned.statistics.find("graph_states"); g != planned.statistics.end()) {
+    result.graph_states = static_cast<unsigned>(g->second);
+  }
+  result.message = planned.message;
+  switch (planned.status) {
+    case core::PlannerStatus::kExactSolution:
+      result.status = core::PlanStatus::kExactSolution;
+      break;
+    case core::PlannerStatus::kApproximateSolution:
+      result.status = core::PlanStatus::kApproximateSolution;
+      break;
+    case core::PlannerStatus::kTimeout: {
+      result.status = core::PlanStatus::kTimeout;
+      char buf[120];
+      if (planned.hit_iteration_limit) {
+        std::snprintf(buf, sizeof buf, "no path within %u iterations", o.max_iterations);
+      } else {
+        std::snprintf(buf, sizeof buf, "no path within %g s", o.time_limit_s);
+      }
+      result.message = buf;
+      break;
     }
-    result.message = buf;
-  } else if (status == ob::PlannerStatus::INVALID_START) {
-    result.status = core::PlanStatus::kInvalidStart;
-  } else if (status == ob::PlannerStatus::INVALID_GOAL ||
-             status == ob::PlannerStatus::UNRECOGNIZED_GOAL_TYPE) {
-    result.status = core::PlanStatus::kInvalidGoal;
-  } else {
-    result.status = core::PlanStatus::kTimeout;
-    result.message = std::string("OMPL: ") + status.asString();
+    case core::PlannerStatus::kInvalidStart:
+      result.status = core::PlanStatus::kInvalidStart;
+      break;
+    case core::PlannerStatus::kInvalidGoal:
+      result.status = core::PlanStatus::kInvalidGoal;
+      break;
+    case core::PlannerStatus::kFailed:
+      result.status = core::PlanStatus::kTimeout;
+      break;
   }
 
   if (result.status == core::PlanStatus::kExactSolution ||
       result.status == core::PlanStatus::kApproximateSolution) {
-    auto path = pdef->getSolutionPath()->as<og::PathGeometric>();
-    if (o.simplify_rounds > 0 && result.status == core::PlanStatus::kExactSolution) {
-      const auto t_simplify = std::chrono::steady_clock::now();
-      const og::PathGeometric planned(*path);
-      og::PathSimplifier simplifier(si, pdef->getGoal());
-      Budget safety(0, o.simplify_time_s);
-      simplify_path(simplifier, *path, o.simplify_rounds, [&safety] { return safety(); });
-      result.simplification_hit_time_limit = safety.clock_out();
-      // A repair pass may leave a path that still touches an obstacle: keep the planner's.
-      if (!path->check()) *path = planned;
-      result.simplification_time_s = seconds_since(t_simplify);
-    }
-    for (size_t k = 0; k < path->getStateCount(); ++k) {
-      const auto* v = path->getState(k)->as<ob::RealVectorStateSpace::StateType>()->values;
-      std::vector<double> q(v, v + n);
+    for (std::vector<double> q : planned.path) {
       // Within the joint limits exactly (goals may lie up to 1e-9 outside).
       for (size_t i = 0; i < n; ++i) q[i] = std::clamp(q[i], lo[i], hi[i]);
       result.path.push_back(std::move(q));
     }
     // Which goal the path ends at.
     for (size_t k = 0; k < goal_index_of_state.size(); ++k) {
-      const auto* g = goal_states->getState(static_cast<unsigned>(k))
-                          ->as<ob::RealVectorStateSpace::StateType>()
-                          ->values;
+      const std::vector<double>& g = problem.goals[k];
       double dmax = 0;
       for (size_t i = 0; i < n; ++i) dmax = std::max(dmax, std::abs(g[i] - result.path.back()[i]));
       if (dmax < 1e-9) result.goal_index = goal_index_of_state[k];

@@ -1,20 +1,12 @@
-// Collision-free motion planning with OMPL's geometric planners over a set of robot joints,
-// validity from ValidityChecker, motions checked at a configurable resolution, path
-// simplification bounded by work, paths within the joint limits, and a status in which only an
-// exact solution succeeds.
-//
-// Determinism: OMPL seeds every RNG from one process-global generator. `plan` reseeds it
-// with the request's seed and holds a process-wide lock while planning, so the same request
-// and seed give the same path bit for bit whatever was planned before in the process. Under
-// an iteration budget (PlanOptions::max_iterations) the result does not depend on the machine
-// or its load either: simplification is bounded by rounds, PRM runs in one thread
-// (OMPL's polls for solutions from a second thread), and the clock bounds are safety nets
-// whose firing the result reports (planning_hit_time_limit, simplification_hit_time_limit).
+// Collision-free motion planning over a set of robot joints with any registered planner
+// (taskmatrix/core/motion_planning.h; built-in: OMPL's, taskmatrix/ompl, and the project's,
+// taskmatrix/planners): this backend checks the request (sizes, NaN, limits, a start in
+// collision), poses the problem with ValidityChecker's verdicts and the clearance it asks
+// for, counts the collision checks, keeps paths within the joint limits, and gives a status
+// in which only an exact solution succeeds.
 #pragma once
 
 #include <cstdint>
-#include <functional>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -26,16 +18,6 @@ namespace taskmatrix::mujoco {
 
 using core::PlannerSpec;
 using core::PlanOptions;
-
-// Planner names accepted by PlannerSpec, sorted.
-std::vector<std::string> planner_names();
-// Whether OMPL's planner `name` optimizes its path (PlannerSpecs::optimizingPaths: RRTstar,
-// PRM, BITstar, ...): with the default path-length objective, whose cost threshold no path
-// meets, it plans until its time limit. False for an unknown name.
-bool planner_optimizes_paths(const std::string& name);
-// "" if `spec` names a known planner and every parameter exists and accepts its value (checked
-// on a planner made for a small unit space); otherwise what is wrong.
-std::string check_planner_spec(const PlannerSpec& spec);
 
 class MotionPlanner {
  public:

@@ -117,7 +117,9 @@ TEST_F(ScenarioFiles, MistakesNameFileLineAndKey) {
   EXPECT_NE(error_of(r + "planners: [RRTFast]\n").find("unknown planner 'RRTFast'"),
             std::string::npos);
   const std::string bad_param = r + "planners: [{name: RRTConnect, params: {rnage: 0.3}}]\n";
-  EXPECT_NE(error_of(bad_param).find("has no parameter 'rnage' (known: "), std::string::npos)
+  EXPECT_NE(
+      error_of(bad_param).find("params: planner RRTConnect: parameter 'rnage' is unknown (known: "),
+      std::string::npos)
       << error_of(bad_param);
   EXPECT_NE(error_of(r + "planners: [{name: RRTConnect, params: {range: fast}}]\n")
                 .find("rejects 'fast'"),

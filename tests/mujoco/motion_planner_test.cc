@@ -1,5 +1,7 @@
 #include "taskmatrix/mujoco/motion_planner.h"
 
+#include "taskmatrix/core/motion_planning.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -159,7 +161,7 @@ TEST_P(PlanOnBothRobots, EveryPlannerByNameSolvesAnOpenArmProblem) {
   for (size_t i = 0; i < goal.size(); ++i) goal[i] = worker.data()->qpos[arm.qpos_adr[i]];
   goal[0] = std::clamp(goal[0] + 0.4 * (arm.upper[0] > 0.5 ? 1 : -1), arm.lower[0], arm.upper[0]);
   MotionPlanner planner(*scene, worker, arm.joints);
-  for (const std::string& name : planner_names()) {
+  for (const std::string& name : core::planner_registry().names()) {
     PlanOptions options;
     options.planner.name = name;
     options.time_limit_s = 2;

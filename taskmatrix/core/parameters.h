@@ -1,0 +1,31 @@
+// Typed parameters as task programs and planners declare them: a spec per parameter (name,
+// type, whether required, default, allowed values), values parsed from the text a scenario
+// or machine file gives. Header-only types (the standard library alone), so a planner plugin
+// built outside the project can declare its parameters with them.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace taskmatrix::core {
+
+enum class ParamType { kString, kNumber, kInteger, kBool, kStringList };
+const char* to_string(ParamType type);
+using ParamValue = std::variant<std::string, double, std::int64_t, bool, std::vector<std::string>>;
+
+struct ParamSpec {
+  std::string name;
+  ParamType type = ParamType::kString;
+  bool required = true;
+  ParamValue default_value;          // used when not required and not given
+  std::vector<std::string> choices;  // for strings: allowed values (empty: any)
+  std::string doc;
+};
+
+// Raw parameter text as written in a scenario or machine file, by name.
+using RawParams = std::map<std::string, std::string>;
+
+}  // namespace taskmatrix::core
