@@ -43,6 +43,63 @@ TEST(Power, HundredTrialsGiveTheTextbookDetectableDropWithinAPoint) {
   EXPECT_GE(mcnemar_power(needed, 0.5, 0.4, 0.05), kTargetPower);
 }
 
+// A run's summary.md and summary.json say per group and for the whole run how small a change
+// a repeat of the run could detect, and how many trials a 10-point change needs.
+TEST(Power, TheRunSummaryGivesEachGroupsDetectableDropAndTheTrialsNeeded) {
+  const nlohmann::json summary = {{"overall", {{"trials", 103}, {"successes", 53}}},
+                                  {"groups",
+                                   {{{"scenario", "pickup"},
+                                     {"robot", "tallbot"},
+                                     {"environment", "kitchen"},
+                                     {"planner", "RRTConnect"},
+                                     {"trials", 3},
+                                     {"successes", 3}},
+                                    {{"scenario", "reach"},
+                                     {"robot", "minibot"},
+                                     {"environment", "office"},
+                                     {"planner", "BITstar"},
+                                     {"trials", 100},
+                                     {"successes", 50}},
+                                    {{"scenario", "grasp"},
+                                     {"robot", "atlas"},
+                                     {"environment", "kitchen"},
+                                     {"planner", "RRTConnect"},
+                                     {"trials", 20},
+                                     {"successes", 0}}}}};
+  const nlohmann::json power = summary_power_json(summary);
+  ASSERT_EQ(power["groups"].size(), 3u);
+  const nlohmann::json& three = power["groups"][0];
+  const nlohmann::json& hundred = power["groups"][1];
+  const nlohmann::json& none = power["groups"][2];
+  // 3 trials: no drop at all is detectable; a 10-point drop from 100% needs what the exact
+  // test says.
+  EXPECT_TRUE(three["detectable_success_change"].is_null());
+  EXPECT_EQ(three["trials_for_target"], pairs_for_success_change(1.0, 0.1, 0.05));
+  // 100 trials at 50%: the textbook 19.6 points within a point; 390 trials by the formula for
+  // a 10-point drop, a few more by the exact test.
+  EXPECT_NEAR(hundred["detectable_success_change"].get<double>(), 0.1958, 0.01);
+  EXPECT_GE(hundred["trials_for_target"].get<int>(), 390);
+  EXPECT_LE(hundred["trials_for_target"].get<int>(), 410);
+  // Nothing succeeded: the smallest detectable rise.
+  EXPECT_TRUE(none["success_change_is_rise"].get<bool>());
+  EXPECT_GT(none["detectable_success_change"].get<double>(), 0.0);
+  EXPECT_EQ(power["overall"]["trials"], 103);
+  EXPECT_NEAR(power["overall"]["detectable_success_change"].get<double>(),
+              detectable_success_change(103, 53.0 / 103, 0.05), 1e-9);
+
+  const std::string md = summary_power_markdown(power);
+  EXPECT_NE(md.find("## Statistical power"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pickup | tallbot | kitchen | RRTConnect | 3 | 3/3 | none (3 trials) | " +
+                    std::to_string(pairs_for_success_change(1.0, 0.1, 0.05)) + " |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| reach | minibot | office | BITstar | 100 | 50/100 | 20 points | " +
+                    hundred["trials_for_target"].dump() + " |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| all trials |  |  |  | 103 | 53/103 |"), std::string::npos) << md;
+}
+
 TEST(Power, PlanningTimeRatioFollowsTheWilcoxonEfficiency) {
   // Wilcoxon's exact test needs 6 non-zero pairs to reach p < 0.05 (2 / 2^6 = 0.031).
   EXPECT_EQ(wilcoxon_min_pairs(0.05), 6);
