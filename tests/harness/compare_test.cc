@@ -208,10 +208,27 @@ TEST(CompareTrials, AnAnytimePlannerSpendingItsBudgetIsSlowerByDesignNotARegress
   EXPECT_NE(c.overall.by_design[1].find("collision checks x5.00"), std::string::npos);
   const std::string md = comparison_markdown(c);
   EXPECT_NE(md.find(kByDesign), std::string::npos) << md;
-  // Without the budgets, or past its limit, the same numbers are regressions.
+  // Without the budgets, or past its limit, the same numbers are regressions; for an anytime
+  // planner the verdict says why they are not its design.
   EXPECT_TRUE(compare_trials(base, optimizing, false, {}).regression());
-  budgets.plan_time_limit_s = {{"reach", 0.2}};
-  EXPECT_TRUE(compare_trials(base, optimizing, false, {}, budgets).regression());
+  PlannerBudgets tight = budgets;
+  tight.plan_time_limit_s = {{"reach", 0.2}};
+  const Comparison over = compare_trials(base, optimizing, false, {}, tight);
+  EXPECT_TRUE(over.regression());
+  ASSERT_FALSE(over.overall.regressions.empty());
+  EXPECT_NE(over.overall.regressions[0].find("(not by design: a plan call of reach.minibot."
+                                             "kitchen.BITstar.l3.s1 planned 0.50 s, over its "
+                                             "0.20 s limit)"),
+            std::string::npos)
+      << over.overall.regressions[0];
+  // Within its limit but asking for more plans than the base (a call that found no path in
+  // its budget, then another): a regression, saying so.
+  auto more_calls = optimizing;
+  more_calls[0]["plan_calls"] = 3;
+  const Comparison more = compare_trials(base, more_calls, false, {}, budgets);
+  EXPECT_TRUE(more.regression());
+  EXPECT_NE(comparison_markdown(more).find("(not by design: 21 plan calls against the base's 20)"),
+            std::string::npos);
 }
 
 TEST(CompareTrials, NoChangeOnAGroupTooSmallToDetectOneSaysSo) {

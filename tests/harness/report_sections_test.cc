@@ -153,6 +153,27 @@ TEST(PathQuality, PairedIntervalMatchesAHandComputation) {
   EXPECT_EQ(clearance->pairs, 0);
 }
 
+// A minimum clearance can be negative (a penetration) or about 0: no share of it is given.
+TEST(PathQuality, NoPercentOfABaseMeanThatIsNotPositive) {
+  std::vector<nlohmann::json> base, fresh;
+  for (const double c : {-0.0004, 0.0001, 0.0002}) {
+    base.push_back({{"success", true}, {"min_clearance_m", c}});
+    fresh.push_back({{"success", true}, {"min_clearance_m", c + 0.0005}});
+  }
+  std::vector<TrialPair> pairs;
+  for (size_t i = 0; i < base.size(); ++i) pairs.push_back({&base[i], &fresh[i]});
+  const std::vector<PathQualityChange> changes = compare_path_quality(pairs);
+  const auto clearance = std::find_if(changes.begin(), changes.end(),
+                                      [](const auto& c) { return c.field == "min_clearance_m"; });
+  ASSERT_NE(clearance, changes.end());
+  EXPECT_EQ(clearance->pairs, 3);
+  EXPECT_NEAR(clearance->mean_change, 0.0005, 1e-12);
+  EXPECT_TRUE(std::isnan(clearance->percent()));
+  const std::string text = path_change_text(*clearance);
+  EXPECT_EQ(text.find('%'), std::string::npos) << text;
+  EXPECT_NE(text.find("+0.0005"), std::string::npos) << text;
+}
+
 TEST(ReportTable, MarkdownAndHtmlHoldTheSameCellsEscapedForEach) {
   ReportTable t;
   t.columns = {"group", "reason"};
