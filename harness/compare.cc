@@ -544,7 +544,9 @@ std::string comparison_markdown(const Comparison& c) {
           (c.thresholds.include_nonreproducible ? "are judged anyway" : "are left out") +
           "; see \"Pairs a clock bound decided\".\n\n";
   }
-  md += c.regression() ? "**Verdict: regression.**\n\n" : "**Verdict: no regression.**\n\n";
+  md += c.regression()         ? "**Verdict: regression.**\n\n"
+        : c.overall.pairs == 0 ? "**Verdict: not judged: no pair left to judge.**\n\n"
+                               : "**Verdict: no regression.**\n\n";
   md += printf_string(
       "Thresholds: a success drop of at least %.0f points with McNemar p < %.2f; a planning "
       "time ratio whose 95%% interval lies above x%.2f with Wilcoxon p < %.2f",
