@@ -105,10 +105,24 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
   for (const char* f : kWorkFields) g.work.push_back(work[f]);
 }
 
-void judge(PairedGroup& g, const CompareThresholds& t, bool within_budget_by_design = false) {
+// Whether more time and checks of the new run are its planner's design (an anytime planner
+// spending its budget), and for an anytime planner that is not, why not.
+struct BudgetJudgement {
+  bool by_design = false;
+  std::string why_not;  // "" when by design or not an anytime planner
+};
+
+void judge(PairedGroup& g, const CompareThresholds& t, const BudgetJudgement& budget = {}) {
   if (g.pairs == 0) return;
-  // More time and checks from a planner that spends its budget by design are no regression.
-  std::vector<std::string>& costlier = within_budget_by_design ? g.by_design : g.regressions;
+  // More time and checks from a planner that spends its budget by design are no regression;
+  // an anytime planner's that are not say why not.
+  struct Costlier {
+    std::vector<std::string>& list;
+    const std::string& why_not;
+    void push_back(const std::string& what) {
+      list.push_back(why_not.empty() ? what : what + " (not by design: " + why_not + ")");
+    }
+  } costlier{budget.by_design ? g.by_design : g.regressions, budget.why_not};
   const double base_rate = static_cast<double>(g.base_successes) / g.pairs;
   const double new_rate = static_cast<double>(g.new_successes) / g.pairs;
   const std::string success =
@@ -168,11 +182,14 @@ void judge(PairedGroup& g, const CompareThresholds& t, bool within_budget_by_des
 // Whether the new trials' planner optimizes until its time limit (every new trial's), kept
 // every plan call within that limit (where the scenario's limit is known), and the programs
 // asked for no more plans than in the base: then more time and more checks are its design.
-bool within_budget_by_design(const std::vector<Pair>& pairs, const PlannerBudgets& budgets) {
-  if (pairs.empty() || budgets.anytime_planners.empty()) return false;
+BudgetJudgement within_budget_by_design(const std::vector<Pair>& pairs,
+                                        const PlannerBudgets& budgets) {
+  if (pairs.empty() || budgets.anytime_planners.empty()) return {};
   double base_calls = 0, new_calls = 0;
   for (const Pair& p : pairs) {
-    if (!budgets.anytime_planners.count(text(*p.fresh, "planner_name"))) return false;
+    if (!budgets.anytime_planners.count(text(*p.fresh, "planner_name"))) return {};
+  }
+  for (const Pair& p : pairs) {
     const auto limit = budgets.plan_time_limit_s.find(text(*p.fresh, "scenario"));
     const auto plans = p.fresh->find("plans");
     if (limit != budgets.plan_time_limit_s.end() && plans != p.fresh->end() && plans->is_array()) {
@@ -181,7 +198,11 @@ bool within_budget_by_design(const std::vector<Pair>& pairs, const PlannerBudget
         // the limit. OMPL checks its clock between iterations: allow an iteration's overshoot.
         const double runs = number(call, "planner_runs");
         const double budget = limit->second * (std::isfinite(runs) && runs > 1 ? runs : 1);
-        if (number(call, "planning_time_s") > budget * 1.1 + 0.02) return false;
+        const double took = number(call, "planning_time_s");
+        if (took > budget * 1.1 + 0.02) {
+          return {false, "a plan call of " + text(*p.fresh, "trial_id") +
+                             printf_string(" planned %.2f s, over its %.2f s limit", took, budget)};
+        }
       }
     }
     const double cb = number(*p.base, "plan_calls"), cn = number(*p.fresh, "plan_calls");
@@ -190,7 +211,8 @@ bool within_budget_by_design(const std::vector<Pair>& pairs, const PlannerBudget
       new_calls += cn;
     }
   }
-  return new_calls <= base_calls;
+  if (new_calls <= base_calls) return {true, ""};
+  return {false, printf_string("%.0f plan calls against the base's %.0f", new_calls, base_calls)};
 }
 
 std::string failure_text(const nlohmann::json& t) {
@@ -522,7 +544,9 @@ std::string comparison_markdown(const Comparison& c) {
           (c.thresholds.include_nonreproducible ? "are judged anyway" : "are left out") +
           "; see \"Pairs a clock bound decided\".\n\n";
   }
-  md += c.regression() ? "**Verdict: regression.**\n\n" : "**Verdict: no regression.**\n\n";
+  md += c.regression()         ? "**Verdict: regression.**\n\n"
+        : c.overall.pairs == 0 ? "**Verdict: not judged: no pair left to judge.**\n\n"
+                               : "**Verdict: no regression.**\n\n";
   md += printf_string(
       "Thresholds: a success drop of at least %.0f points with McNemar p < %.2f; a planning "
       "time ratio whose 95%% interval lies above x%.2f with Wilcoxon p < %.2f",
@@ -566,12 +590,14 @@ std::string comparison_markdown(const Comparison& c) {
       "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const PairedGroup& g : c.groups) {
     const std::string planner =
-        g.base_planner == g.new_planner ? g.base_planner : g.base_planner + " -> " + g.new_planner;
+        g.base_planner == g.new_planner
+            ? markdown_cell(g.base_planner)
+            : markdown_cell(g.base_planner) + " -> " + markdown_cell(g.new_planner);
     md += "| " + markdown_cell(g.scenario) + " | " + markdown_cell(g.robot) + " | " +
-          markdown_cell(g.environment) + " | " + markdown_cell(planner) + " | " + success_cell(g) +
-          " | " + p_value_text(g.mcnemar_p) + " | " + time_cell(g) + " | " +
-          p_value_text(g.wilcoxon_p) + " | " + work_cell(g, "collision_checks") + " | " +
-          work_cell(g, "plan_calls") + " | " + verdict(g, t) + " |\n";
+          markdown_cell(g.environment) + " | " + planner + " | " + success_cell(g) + " | " +
+          p_value_text(g.mcnemar_p) + " | " + time_cell(g) + " | " + p_value_text(g.wilcoxon_p) +
+          " | " + work_cell(g, "collision_checks") + " | " + work_cell(g, "plan_calls") + " | " +
+          verdict(g, t) + " |\n";
   }
   if (!c.flips.empty()) {
     md += "\n## Trials whose outcome changed\n\n" + markdown_table(flips_table(c));

@@ -31,8 +31,9 @@ struct PathQualityChange {
 
   bool significant() const { return change_low > 0 || change_high < 0; }
   bool better() const { return significant() && ((mean_change < 0) == lower_is_better); }
-  // mean_change relative to the base mean, in percent (NaN when the base mean is 0).
-  double percent() const { return base_mean != 0 ? 100 * mean_change / base_mean : NAN; }
+  // mean_change relative to the base mean, in percent; NaN unless the base mean is positive (a
+  // minimum clearance can be negative, a penetration, or near 0: no scale to take a share of).
+  double percent() const { return base_mean > 0 ? 100 * mean_change / base_mean : NAN; }
 };
 
 // The measures compared, in report order.

@@ -76,7 +76,9 @@ std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& tria
     if (other.empty()) continue;
     Comparison c =
         compare_trials(reference, other, /*with_planner=*/false, CompareThresholds{}, budgets);
-    if (c.overall.pairs == 0) continue;  // another scenario's planner: nothing in common
+    // Another scenario's planner: nothing in common. Pairs that a clock bound decided are
+    // kept, to say why nothing was judged.
+    if (c.overall.pairs == 0 && c.nonreproducible.empty()) continue;
     c.base_label = planners[0];
     c.new_label = planners[i];
     out.push_back(std::move(c));
@@ -122,6 +124,12 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
       continue;
     }
     const PairedGroup& o = c->overall;
+    if (o.pairs == 0) {
+      md += "- | - | - | - | not judged: a clock bound decided all " +
+            std::to_string(c->nonreproducible.size()) +
+            " pairs (not reproducible; planners.md lists them) | - |\n";
+      continue;
+    }
     double checks = NAN;
     for (const WorkCountChange& w : o.work) {
       if (w.field == "collision_checks" && w.base_total > 0) checks = w.new_total / w.base_total;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "harness/report_table.h"
 #include "harness/summary.h"
 
 namespace taskmatrix::harness {
@@ -237,51 +238,81 @@ std::string pairs_needed_text(int pairs) {
   return pairs < 0 ? std::string("> 100000") : std::to_string(pairs);
 }
 
-nlohmann::json summary_power_json(const nlohmann::json& summary, double target) {
+namespace {
+
+// One group's (or the whole run's) row of summary.json's "power".
+nlohmann::json summary_power_row(const nlohmann::json& group, double target) {
   constexpr double kAlpha = 0.05;
+  const int n = group.value("trials", 0), s = group.value("successes", 0);
+  const GroupPower p = group_power(n, s, {}, 1, kAlpha, target, 1.25);
+  return {{"trials", n},
+          {"successes", s},
+          {"detectable_success_change", finite_or_null(p.success_change)},
+          {"success_change_is_rise", p.success_rise},
+          {"trials_for_target", count_or_null(p.pairs_for_success_target)}};
+}
+
+}  // namespace
+
+nlohmann::json summary_power_json(const nlohmann::json& summary, double target) {
   nlohmann::json groups = nlohmann::json::array();
   for (const nlohmann::json& g : summary.value("groups", nlohmann::json::array())) {
-    const int n = g.value("trials", 0), s = g.value("successes", 0);
-    const GroupPower p = group_power(n, s, {}, 1, kAlpha, target, 1.25);
-    groups.push_back({{"scenario", g.value("scenario", "")},
-                      {"robot", g.value("robot", "")},
-                      {"environment", g.value("environment", "")},
-                      {"planner", g.value("planner", "")},
-                      {"trials", n},
-                      {"successes", s},
-                      {"detectable_success_change", finite_or_null(p.success_change)},
-                      {"success_change_is_rise", p.success_rise},
-                      {"trials_for_target", count_or_null(p.pairs_for_success_target)}});
+    nlohmann::json row = {{"scenario", g.value("scenario", "")},
+                          {"robot", g.value("robot", "")},
+                          {"environment", g.value("environment", "")},
+                          {"planner", g.value("planner", "")}};
+    row.update(summary_power_row(g, target));
+    groups.push_back(std::move(row));
   }
-  return {{"alpha", kAlpha}, {"power", kTargetPower}, {"target", target}, {"groups", groups}};
+  return {
+      {"alpha", 0.05},
+      {"power", kTargetPower},
+      {"target", target},
+      {"overall", summary_power_row(summary.value("overall", nlohmann::json::object()), target)},
+      {"groups", groups}};
 }
 
 std::string summary_power_markdown(const nlohmann::json& power) {
   const double target = power.value("target", 0.1);
-  std::string md =
-      "\n## Statistical power\n\nHow small a change of each group's success rate a paired "
-      "comparison with another run of the same trials (`taskmatrix compare`) could detect at "
-      "alpha = 0.05 with 80% power (exact power of McNemar's exact test, outcomes taken as "
-      "independent at this run's rate: conservative), and how many trials per group a " +
-      format_number("%.0f", 100 * target) + "-point drop needs.\n\n" +
-      "| scenario | robot | environment | planner | trials | success | smallest detectable "
-      "drop | trials for a " +
-      format_number("%.0f", 100 * target) + "-point drop |\n|---|---|---|---|---|---|---|---|\n";
-  for (const nlohmann::json& g : power.value("groups", nlohmann::json::array())) {
+  const std::string points = format_number("%.0f", 100 * target);
+  ReportTable table;
+  table.columns = {"scenario",
+                   "robot",
+                   "environment",
+                   "planner",
+                   "trials",
+                   "success",
+                   "smallest detectable drop",
+                   "trials for a " + points + "-point change"};
+  const auto add = [&](const nlohmann::json& g, std::vector<std::string> names) {
     GroupPower p;
     p.pairs = g.value("trials", 0);
     p.success_rise = g.value("success_change_is_rise", false);
-    p.success_change = g["detectable_success_change"].is_number()
-                           ? g["detectable_success_change"].get<double>()
-                           : NAN;
-    const int needed = g["trials_for_target"].is_number() ? g["trials_for_target"].get<int>() : -1;
-    md += "| " + g.value("scenario", "") + " | " + g.value("robot", "") + " | " +
-          g.value("environment", "") + " | " + g.value("planner", "") + " | " +
-          std::to_string(p.pairs) + " | " + std::to_string(g.value("successes", 0)) + "/" +
-          std::to_string(p.pairs) + " | " + success_change_text(p, "trials") + " | " +
-          pairs_needed_text(needed) + " |\n";
+    const nlohmann::json& change = g["detectable_success_change"];
+    p.success_change = change.is_number() ? change.get<double>() : NAN;
+    const nlohmann::json& needed = g["trials_for_target"];
+    names.insert(names.end(),
+                 {std::to_string(p.pairs),
+                  std::to_string(g.value("successes", 0)) + "/" + std::to_string(p.pairs),
+                  success_change_text(p, "trials"),
+                  pairs_needed_text(needed.is_number() ? needed.get<int>() : -1)});
+    table.rows.push_back({std::move(names), ""});
+  };
+  const nlohmann::json groups = power.value("groups", nlohmann::json::array());
+  if (groups.size() != 1 && power.contains("overall")) {
+    add(power["overall"], {"all trials", "", "", ""});
   }
-  return md;
+  for (const nlohmann::json& g : groups) {
+    add(g, {g.value("scenario", ""), g.value("robot", ""), g.value("environment", ""),
+            g.value("planner", "")});
+  }
+  return "\n## Statistical power\n\nHow small a change of the success rate a paired comparison "
+         "with another run of the same trials (`taskmatrix compare`) could detect at alpha = "
+         "0.05 with 80% power (exact power of McNemar's exact test, outcomes taken as independent "
+         "at this run's rate: conservative; a rise where nothing succeeded), and how many trials "
+         "per group (all trials: in all) a " +
+         points + "-point change needs (a drop; a rise where the rate is below " + points +
+         "%). \"none\": no change is detectable with so few trials.\n\n" + markdown_table(table);
 }
 
 }  // namespace taskmatrix::harness

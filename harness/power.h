@@ -89,9 +89,10 @@ std::string time_ratio_text(const GroupPower& p);
 // "113" or "> 100000".
 std::string pairs_needed_text(int pairs);
 
-// For a run's summary (harness/summary.h): per group, the smallest success drop that a paired
-// comparison with another run of the same trials could detect, and the trials needed for a
-// drop of `target` (0.1: 10 points), at alpha = 0.05. "power" of summary.json and a section of
+// For a run's summary (harness/summary.h): per group and for all trials ("overall"), the
+// smallest success drop that a paired comparison with another run of the same trials could
+// detect, and the trials needed for a change of `target` (0.1: 10 points; a drop, or a rise
+// from a rate below `target`), at alpha = 0.05. "power" of summary.json and a section of
 // summary.md.
 nlohmann::json summary_power_json(const nlohmann::json& summary, double target = 0.1);
 std::string summary_power_markdown(const nlohmann::json& summary_power);

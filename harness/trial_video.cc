@@ -18,6 +18,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <mujoco/mujoco.h>
+
 #include "harness/replay.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/kinematics.h"
@@ -381,6 +383,40 @@ double moved(const FocusCandidate& c, size_t from, size_t to) {
   return most;
 }
 
+// The free camera `distance` from `target` at `azimuth` and `elevation` (degrees, MuJoCo's
+// conventions: the camera looks along (cos el cos az, cos el sin az, sin el)).
+mujoco::CameraView free_view(const Eigen::Vector3d& target, double distance, double azimuth,
+                             double elevation) {
+  mujoco::CameraView view;
+  view.fixed_camera = -1;
+  for (int i = 0; i < 3; ++i) view.lookat[i] = target[i];
+  view.distance = distance;
+  view.azimuth = std::fmod(std::fmod(azimuth, 360) + 360, 360);
+  view.elevation = elevation;
+  return view;
+}
+
+// Whether a free camera sees its look-at point: it is above the floor, and the ray from it to
+// the point meets no visible geom (furniture, an obstacle, the robot's body; a camera inside a
+// geom meets it at once) until within `near` of the point, where the hand and what it holds
+// are.
+bool sees_its_target(const mjModel* m, const mjData* d, const mujoco::CameraView& view,
+                     double near) {
+  const double az = view.azimuth * std::numbers::pi / 180;
+  const double el = view.elevation * std::numbers::pi / 180;
+  const Eigen::Vector3d forward(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                std::sin(el));
+  const Eigen::Vector3d target(view.lookat[0], view.lookat[1], view.lookat[2]);
+  const Eigen::Vector3d eye = target - view.distance * forward;
+  if (eye.z() < 0.05) return false;
+  const mjtNum from[3] = {eye.x(), eye.y(), eye.z()};
+  const mjtNum along[3] = {forward.x(), forward.y(), forward.z()};
+  const mjtByte groups[mjNGROUP] = {1, 1, 1, 0, 0, 0};  // what the renderer draws by default
+  int geom = -1;
+  const double hit = mj_ray(m, d, from, along, groups, 1, -1, &geom);
+  return geom < 0 || hit < 0 || hit >= view.distance - near;
+}
+
 }  // namespace
 
 FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string& run_dir_and_trial,
@@ -458,20 +494,33 @@ FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string&
       }
     }
   }
-  // From beyond the focus as seen from the robot's base, looking back and down at it.
-  mujoco::CameraView close;
-  close.fixed_camera = -1;
-  for (int i = 0; i < 3; ++i) close.lookat[i] = target[i];
-  close.distance = 0.7;
-  close.azimuth =
-      std::atan2(base.y() - target.y(), base.x() - target.x()) * 180 / std::numbers::pi + 35;
-  close.azimuth = std::fmod(close.azimuth + 360, 360);
-  close.elevation = -25;
+  // From beyond the focus as seen from the robot's base, looking back and down at it, turned
+  // 35 degrees; where furniture, an obstacle or the robot's body would hide the focus (or the
+  // camera would be inside something), turned further either way, then looking down more.
+  replay->show(frame);
+  const double towards_base =
+      std::atan2(base.y() - target.y(), base.x() - target.x()) * 180 / std::numbers::pi;
+  constexpr double kDistance = 0.7, kNear = 0.15;
+  mujoco::CameraView close = free_view(target, kDistance, towards_base + 35, -25);
+  bool found = false;
+  for (const double elevation : {-25.0, -45.0, -65.0}) {
+    for (const double turn : {35.0, -35.0, 70.0, -70.0, 105.0, -105.0, 140.0, -140.0, 180.0}) {
+      // Judged through the view its --camera text describes, as it is drawn below.
+      mujoco::CameraView candidate;
+      parse_lookat(lookat_camera_text(free_view(target, kDistance, towards_base + turn, elevation)),
+                   candidate);
+      if (sees_its_target(replay->worker().model(), d, candidate, kNear)) {
+        close = candidate;
+        found = true;
+        break;
+      }
+    }
+    if (found) break;
+  }
   // Drawn through the view its --camera text describes, so that the text reproduces it.
   out.close_up_camera = lookat_camera_text(close);
   parse_lookat(out.close_up_camera, close);
 
-  replay->show(frame);
   mujoco::OffscreenRenderer renderer(scene.model(), options.width, options.height);
   out.overview = render_png(renderer, *replay, overview);
   out.close_up = render_png(renderer, *replay, close);

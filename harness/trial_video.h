@@ -53,7 +53,10 @@ struct FailurePictures {
 
 // The recorded frame nearest `time_s` (< 0: the last), drawn twice: through options.camera and
 // through a free camera 0.7 m from the focus, looking down 25 degrees from the far side of the
-// focus as seen from the robot's base, turned 35 degrees. The focus is a held or handled
+// focus as seen from the robot's base, turned 35 degrees; where that camera would not see the
+// focus (a visible geom on the line of sight more than 15 cm short of it, the camera inside
+// furniture or under the floor), turned further (-35, +-70, +-105, +-140, 180 degrees), then
+// looking down 45 and 65 degrees; the first that sees it. The focus is a held or handled
 // object (one that moved during the trial and is within 15 cm of a palm at that moment, at
 // their midpoint), else the palm that moved most in the 2 s before (over the whole trial
 // when none moved 1 cm). Throws as trial_snapshot_png.

@@ -1,12 +1,14 @@
 #include "taskmatrix/core/conditions.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace taskmatrix::core {
 
@@ -377,6 +379,12 @@ bool in_camera_view(Skillset& skills, const Eigen::AlignedBox3d& box) {
 
 namespace {
 
+// Every name the parser accepts, in the order of the reference (docs/conditions.md); the
+// unknown-condition error lists them, and a test checks the reference against that list.
+constexpr std::array<std::string_view, 10> kConditionNames = {
+    "near",    "above",  "postural", "grasping", "graspable",
+    "in_view", "exists", "not",      "all_of",   "any_of"};
+
 // Recursive descent over: call := name '(' [arg {',' arg}] ')'; arg := call | word.
 class ConditionParser {
  public:
@@ -480,6 +488,13 @@ class ConditionParser {
     }
   }
   ConditionPtr make(const std::string& f, const std::vector<Arg>& args) {
+    if (std::find(kConditionNames.begin(), kConditionNames.end(), f) == kConditionNames.end()) {
+      std::string known;
+      for (const std::string_view name : kConditionNames) {
+        known += (known.empty() ? "" : ", ") + std::string(name);
+      }
+      error("unknown condition '" + f + "' (known: " + known + ")");
+    }
     if (f == "near") {
       arity(f, args, 2, 3);
       return near(name_arg(f, args, 0), name_arg(f, args, 1),
@@ -522,9 +537,7 @@ class ConditionParser {
       if (f == "not") return negate(inner[0]);
       return f == "all_of" ? all_of(inner) : any_of(inner);
     }
-    error("unknown condition '" + f +
-          "' (known: near, above, postural, grasping, graspable, in_view, exists, not, all_of, "
-          "any_of)");
+    throw std::logic_error("condition '" + f + "' is listed in kConditionNames but not parsed");
   }
 
   const std::string& text_;

@@ -2,6 +2,11 @@
 // placements generated from them.
 #include "taskmatrix/core/conditions.h"
 
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 #include "taskmatrix/mujoco/ground_truth_perception.h"
@@ -160,6 +165,83 @@ TEST_P(ConditionsTest, GraspingAndGraspableFollowTheHands) {
   EXPECT_FALSE(graspable("cup")->holds(world()));  // already held
   skills_->detach("cup");
   EXPECT_FALSE(grasping("cup")->holds(world()));
+}
+
+// What the parser says when a condition is called with no arguments: its arity error for a
+// known name, the list of known names for an unknown one.
+std::string parse_error(const std::string& text) {
+  try {
+    parse_condition(text);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The arity error the parser gives for `name()`, computed from a signature of the reference
+// ("near(A, B[, d])": 2 required, 1 optional; "all_of(C...)": 1 or more).
+std::string arity_text(const std::string& signature) {
+  const size_t open = signature.find('('), close = signature.rfind(')');
+  const std::string name = signature.substr(0, open);
+  const std::string inside = signature.substr(open + 1, close - open - 1);
+  const size_t bracket = inside.find('[');
+  const auto count = [](const std::string& part) {
+    int n = 0;
+    std::stringstream in(part);
+    for (std::string item; std::getline(in, item, ',');) {
+      if (item.find_first_not_of(" []") != std::string::npos) ++n;
+    }
+    return n;
+  };
+  const int required = count(inside.substr(0, bracket));
+  const int optional = bracket == std::string::npos ? 0 : count(inside.substr(bracket));
+  const bool variadic = inside.find("...") != std::string::npos;
+  std::string takes = name + " takes " + std::to_string(required);
+  if (variadic) {
+    takes += " or more";
+  } else if (optional > 0) {
+    takes += " to " + std::to_string(required + optional);
+  }
+  return takes + " argument" + (required == 1 && !variadic && optional == 0 ? "" : "s");
+}
+
+TEST(ConditionReference, ListsEveryConditionTheParserAcceptsWithItsArity) {
+  // The names the parser accepts, as its unknown-condition error lists them.
+  const std::string unknown = parse_error("no_such_condition(cup)");
+  const size_t known_at = unknown.find("(known: ");
+  ASSERT_NE(known_at, std::string::npos) << unknown;
+  std::set<std::string> parsed;
+  std::stringstream known(unknown.substr(known_at + 8, unknown.rfind(')') - known_at - 8));
+  for (std::string name; std::getline(known, name, ',');) {
+    parsed.insert(name.substr(name.find_first_not_of(' ')));
+  }
+  ASSERT_GE(parsed.size(), 10u) << unknown;
+
+  // The reference's table: every backquoted signature in the first column of its rows.
+  std::ifstream file(std::filesystem::path(TASKMATRIX_TEST_ROOT) / "docs" / "conditions.md");
+  ASSERT_TRUE(file) << "docs/conditions.md";
+  std::set<std::string> documented;
+  bool in_table = false;
+  for (std::string line; std::getline(file, line);) {
+    if (line.rfind("## ", 0) == 0) in_table = line == "## Conditions";
+    if (!in_table || line.rfind("| `", 0) != 0) continue;
+    const std::string first = line.substr(1, line.find('|', 1) - 1);
+    for (size_t at = first.find('`'); at != std::string::npos;
+         at = first.find('`', first.find('`', at + 1) + 1)) {
+      const std::string signature = first.substr(at + 1, first.find('`', at + 1) - at - 1);
+      const std::string name = signature.substr(0, signature.find('('));
+      documented.insert(name);
+      // The parser knows the name and takes the arguments the signature says.
+      const std::string error = parse_error(name + "()");
+      EXPECT_NE(error.find(arity_text(signature)), std::string::npos)
+          << signature << " in docs/conditions.md; the parser says: " << error;
+    }
+  }
+  EXPECT_EQ(documented, parsed) << "docs/conditions.md lists other conditions than the parser";
+
+  // The defaults the reference gives.
+  EXPECT_EQ(parse_condition("near(cup, work_surface)")->describe(), "near(cup, work_surface, 0.1)");
+  EXPECT_EQ(parse_condition("graspable(cup)")->describe(), "graspable(cup, any)");
 }
 
 INSTANTIATE_TEST_SUITE_P(RobotsAndEnvironments, ConditionsTest,

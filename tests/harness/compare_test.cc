@@ -12,6 +12,7 @@
 #include "harness/compare_job.h"
 #include "harness/html_report.h"
 #include "harness/paired_stats.h"
+#include "harness/planner_comparison.h"
 #include "harness/run_job.h"
 #include "harness/trial_record.h"
 #include "taskmatrix/core/input_error.h"
@@ -208,10 +209,53 @@ TEST(CompareTrials, AnAnytimePlannerSpendingItsBudgetIsSlowerByDesignNotARegress
   EXPECT_NE(c.overall.by_design[1].find("collision checks x5.00"), std::string::npos);
   const std::string md = comparison_markdown(c);
   EXPECT_NE(md.find(kByDesign), std::string::npos) << md;
-  // Without the budgets, or past its limit, the same numbers are regressions.
+  // Without the budgets, or past its limit, the same numbers are regressions; for an anytime
+  // planner the verdict says why they are not its design.
   EXPECT_TRUE(compare_trials(base, optimizing, false, {}).regression());
-  budgets.plan_time_limit_s = {{"reach", 0.2}};
-  EXPECT_TRUE(compare_trials(base, optimizing, false, {}, budgets).regression());
+  PlannerBudgets tight = budgets;
+  tight.plan_time_limit_s = {{"reach", 0.2}};
+  const Comparison over = compare_trials(base, optimizing, false, {}, tight);
+  EXPECT_TRUE(over.regression());
+  ASSERT_FALSE(over.overall.regressions.empty());
+  EXPECT_NE(over.overall.regressions[0].find("(not by design: a plan call of reach.minibot."
+                                             "kitchen.BITstar.l3.s1 planned 0.50 s, over its "
+                                             "0.20 s limit)"),
+            std::string::npos)
+      << over.overall.regressions[0];
+  // Within its limit but asking for more plans than the base (a call that found no path in
+  // its budget, then another): a regression, saying so.
+  auto more_calls = optimizing;
+  more_calls[0]["plan_calls"] = 3;
+  const Comparison more = compare_trials(base, more_calls, false, {}, budgets);
+  EXPECT_TRUE(more.regression());
+  EXPECT_NE(comparison_markdown(more).find("(not by design: 21 plan calls against the base's 20)"),
+            std::string::npos);
+}
+
+// RRTstar under an iteration budget too large for the machine: every plan call ran into the
+// clock's safety net, so no pair can be judged. The run's planner table says so instead of
+// leaving the planner out.
+TEST(CompareTrials, APlannerWhosePairsAClockBoundDecidedIsNotJudgedAndSaysWhy) {
+  std::vector<nlohmann::json> trials = run_of(
+      4, [](int i) { return trial("reach", "tallbot", i, true, 0.01 * i, 100, "RRTConnect"); });
+  for (const nlohmann::json& t : run_of(4, [](int i) {
+         nlohmann::json t = trial("reach", "tallbot", i, true, 60, 150000, "RRTstar");
+         t["clock_bound_hit"] = {"plan_time_limit"};
+         return t;
+       })) {
+    trials.push_back(t);
+  }
+  const std::vector<std::string> planners = {"RRTConnect", "RRTstar"};
+  const std::vector<Comparison> cs = compare_planners(trials, planners, {});
+  ASSERT_EQ(cs.size(), 1u);
+  EXPECT_EQ(cs[0].overall.pairs, 0);
+  EXPECT_EQ(cs[0].nonreproducible.size(), 4u);
+  const std::string table = planner_table_markdown(trials, planners, cs);
+  EXPECT_NE(table.find("| RRTstar | 4/4 |"), std::string::npos) << table;
+  EXPECT_NE(table.find("not judged: a clock bound decided all 4 pairs"), std::string::npos)
+      << table;
+  EXPECT_NE(comparison_markdown(cs[0]).find("**Verdict: not judged: no pair left to judge.**"),
+            std::string::npos);
 }
 
 TEST(CompareTrials, NoChangeOnAGroupTooSmallToDetectOneSaysSo) {

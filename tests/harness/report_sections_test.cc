@@ -43,6 +43,63 @@ TEST(Power, HundredTrialsGiveTheTextbookDetectableDropWithinAPoint) {
   EXPECT_GE(mcnemar_power(needed, 0.5, 0.4, 0.05), kTargetPower);
 }
 
+// A run's summary.md and summary.json say per group and for the whole run how small a change
+// a repeat of the run could detect, and how many trials a 10-point change needs.
+TEST(Power, TheRunSummaryGivesEachGroupsDetectableDropAndTheTrialsNeeded) {
+  const nlohmann::json summary = {{"overall", {{"trials", 103}, {"successes", 53}}},
+                                  {"groups",
+                                   {{{"scenario", "pickup"},
+                                     {"robot", "tallbot"},
+                                     {"environment", "kitchen"},
+                                     {"planner", "RRTConnect"},
+                                     {"trials", 3},
+                                     {"successes", 3}},
+                                    {{"scenario", "reach"},
+                                     {"robot", "minibot"},
+                                     {"environment", "office"},
+                                     {"planner", "BITstar"},
+                                     {"trials", 100},
+                                     {"successes", 50}},
+                                    {{"scenario", "grasp"},
+                                     {"robot", "atlas"},
+                                     {"environment", "kitchen"},
+                                     {"planner", "RRTConnect"},
+                                     {"trials", 20},
+                                     {"successes", 0}}}}};
+  const nlohmann::json power = summary_power_json(summary);
+  ASSERT_EQ(power["groups"].size(), 3u);
+  const nlohmann::json& three = power["groups"][0];
+  const nlohmann::json& hundred = power["groups"][1];
+  const nlohmann::json& none = power["groups"][2];
+  // 3 trials: no drop at all is detectable; a 10-point drop from 100% needs what the exact
+  // test says.
+  EXPECT_TRUE(three["detectable_success_change"].is_null());
+  EXPECT_EQ(three["trials_for_target"], pairs_for_success_change(1.0, 0.1, 0.05));
+  // 100 trials at 50%: the textbook 19.6 points within a point; 390 trials by the formula for
+  // a 10-point drop, a few more by the exact test.
+  EXPECT_NEAR(hundred["detectable_success_change"].get<double>(), 0.1958, 0.01);
+  EXPECT_GE(hundred["trials_for_target"].get<int>(), 390);
+  EXPECT_LE(hundred["trials_for_target"].get<int>(), 410);
+  // Nothing succeeded: the smallest detectable rise.
+  EXPECT_TRUE(none["success_change_is_rise"].get<bool>());
+  EXPECT_GT(none["detectable_success_change"].get<double>(), 0.0);
+  EXPECT_EQ(power["overall"]["trials"], 103);
+  EXPECT_NEAR(power["overall"]["detectable_success_change"].get<double>(),
+              detectable_success_change(103, 53.0 / 103, 0.05), 1e-9);
+
+  const std::string md = summary_power_markdown(power);
+  EXPECT_NE(md.find("## Statistical power"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pickup | tallbot | kitchen | RRTConnect | 3 | 3/3 | none (3 trials) | " +
+                    std::to_string(pairs_for_success_change(1.0, 0.1, 0.05)) + " |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| reach | minibot | office | BITstar | 100 | 50/100 | 20 points | " +
+                    hundred["trials_for_target"].dump() + " |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| all trials |  |  |  | 103 | 53/103 |"), std::string::npos) << md;
+}
+
 TEST(Power, PlanningTimeRatioFollowsTheWilcoxonEfficiency) {
   // Wilcoxon's exact test needs 6 non-zero pairs to reach p < 0.05 (2 / 2^6 = 0.031).
   EXPECT_EQ(wilcoxon_min_pairs(0.05), 6);
@@ -94,6 +151,27 @@ TEST(PathQuality, PairedIntervalMatchesAHandComputation) {
                                       [](const auto& c) { return c.field == "min_clearance_m"; });
   ASSERT_NE(clearance, changes.end());
   EXPECT_EQ(clearance->pairs, 0);
+}
+
+// A minimum clearance can be negative (a penetration) or about 0: no share of it is given.
+TEST(PathQuality, NoPercentOfABaseMeanThatIsNotPositive) {
+  std::vector<nlohmann::json> base, fresh;
+  for (const double c : {-0.0004, 0.0001, 0.0002}) {
+    base.push_back({{"success", true}, {"min_clearance_m", c}});
+    fresh.push_back({{"success", true}, {"min_clearance_m", c + 0.0005}});
+  }
+  std::vector<TrialPair> pairs;
+  for (size_t i = 0; i < base.size(); ++i) pairs.push_back({&base[i], &fresh[i]});
+  const std::vector<PathQualityChange> changes = compare_path_quality(pairs);
+  const auto clearance = std::find_if(changes.begin(), changes.end(),
+                                      [](const auto& c) { return c.field == "min_clearance_m"; });
+  ASSERT_NE(clearance, changes.end());
+  EXPECT_EQ(clearance->pairs, 3);
+  EXPECT_NEAR(clearance->mean_change, 0.0005, 1e-12);
+  EXPECT_TRUE(std::isnan(clearance->percent()));
+  const std::string text = path_change_text(*clearance);
+  EXPECT_EQ(text.find('%'), std::string::npos) << text;
+  EXPECT_NE(text.find("+0.0005"), std::string::npos) << text;
 }
 
 TEST(ReportTable, MarkdownAndHtmlHoldTheSameCellsEscapedForEach) {

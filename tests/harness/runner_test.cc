@@ -190,6 +190,19 @@ TEST_F(Runner, ResultsAreTheSameForAnyNumberOfJobsAndFromATrialIdAlone) {
   std::ifstream md(two.dir / "summary.md");
   const std::string md_text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
   EXPECT_NE(md_text.find("| quick_reach | tallbot | kitchen | RRTConnect |"), std::string::npos);
+  // Statistical power: with 2 trials a group (4 in all) no change is detectable, and the
+  // summary says how many trials a 10-point change needs.
+  ASSERT_EQ(summary["power"]["groups"].size(), 2u);
+  for (const nlohmann::json& g : summary["power"]["groups"]) {
+    EXPECT_TRUE(g["detectable_success_change"].is_null()) << g;
+    EXPECT_GT(g["trials_for_target"].get<int>(), 10) << g;
+  }
+  EXPECT_TRUE(summary["power"]["overall"]["detectable_success_change"].is_null());
+  EXPECT_NE(md_text.find("## Statistical power"), std::string::npos);
+  EXPECT_NE(md_text.find("| quick_reach | tallbot | kitchen | RRTConnect | 2 |"),
+            std::string::npos);
+  EXPECT_NE(md_text.find("none (2 trials)"), std::string::npos);
+  EXPECT_NE(md_text.find("| all trials |  |  |  | 4 |"), std::string::npos);
   const nlohmann::json prov = nlohmann::json::parse(std::ifstream(two.dir / "provenance.json"));
   EXPECT_EQ(prov["mujoco_version"], "2.2.2");
   EXPECT_EQ(prov["ompl_version"], "1.5.2");

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <numbers>
 #include <regex>
 #include <set>
 
@@ -20,6 +21,8 @@
 #include "harness/trial_record.h"
 #include "harness/trial_video.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::harness {
@@ -216,6 +219,54 @@ TEST_F(TrialVideo, FailurePicturesAddACloseUpThatALookatCameraReproduces) {
           << e.what();
     }
   }
+}
+
+// minibot fails its reach at once (no plan within 1 iteration): the close-up aims at its left
+// palm at rest, beside the kitchen counter. The first camera tried (turned 35 degrees) would
+// sit inside the counter's top slab, with its handle across the view; the one chosen is in no
+// geom and sees the palm.
+TEST(FailureCloseUp, TheCameraIsInNothingAndSeesItsFocus) {
+  char tmpl[] = "/tmp/taskmatrix_closeup_XXXXXX";
+  const std::filesystem::path dir = mkdtemp(tmpl);
+  std::ofstream(dir / "stuck.yaml")
+      << "program: reach\nparams: {object: cup}\nrobots: [minibot]\nenvironments: [kitchen]\n"
+         "execution: kinematic\nobstacles: {count: 0}\nplan_iterations: 1\ntime_limit_s: 10\n";
+  const test::CommandResult r = test::run_cli("run " + shell_arg(dir / "stuck.yaml") + " --out " +
+                                                  shell_arg(dir / "run") + " --progress off",
+                                              test::catalog().root());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto trials = read_trials_file(dir / "run" / "trials.jsonl").trials;
+  ASSERT_EQ(trials.size(), 1u);
+  ASSERT_EQ(trials[0]["status"], "planning_timeout") << trials[0]["failure_reason"];
+  const std::string trial = (dir / "run").string() + ":" + trials[0]["trial_id"].get<std::string>();
+
+  const FailurePictures p = failure_pictures(test::catalog(), trial, -1, {"", 160, 120});
+  EXPECT_NE(p.focus.find("left hand"), std::string::npos) << p.focus;
+  Replay replay(test::catalog(), read_trajectory_file(trajectory_of(trial)));
+  replay.show(replay.frames() - 1);
+  std::string camera = p.close_up_camera;
+  const mujoco::CameraView view = camera_view(replay.scene(), camera);
+  const double az = view.azimuth * std::numbers::pi / 180;
+  const double el = view.elevation * std::numbers::pi / 180;
+  const Eigen::Vector3d target(view.lookat[0], view.lookat[1], view.lookat[2]);
+  const Eigen::Vector3d eye =
+      target - view.distance * Eigen::Vector3d(std::cos(el) * std::cos(az),
+                                               std::cos(el) * std::sin(az), std::sin(el));
+  // Not inside the bounding box of any geom drawn (the counter's slab among them).
+  const mjModel* m = replay.worker().model();
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_group[g] > 2 || m->geom_type[g] == mjGEOM_PLANE) continue;
+    const Eigen::AlignedBox3d box = mujoco::geom_box(m, replay.worker().data(), g);
+    EXPECT_FALSE(box.contains(eye))
+        << p.close_up_camera << " is inside geom " << mj_id2name(m, mjOBJ_GEOM, g);
+  }
+  EXPECT_GT(eye.z(), 0.05);
+  // Its centre pixel sees the palm: nothing nearer than 15 cm short of it.
+  mujoco::OffscreenRenderer renderer(m, 64, 48);
+  const mujoco::DepthImage depth = renderer.render_depth(m, replay.worker().data(), view);
+  const float centre = depth.metres[24 * 64 + 32];
+  EXPECT_GT(centre, view.distance - 0.15) << p.close_up_camera;
+  std::filesystem::remove_all(dir);
 }
 
 TEST_F(TrialVideo, UnknownTrialAndMissingFolderAreInputErrorsAndWriteNothing) {
