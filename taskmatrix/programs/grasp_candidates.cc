@@ -161,15 +161,15 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
     hi = std::max(hi, base.dot(g.closing));
     depth += -base.dot(g.approach);
     reach += in_palm(closed, f.bodies.back()).dot(g.approach);
-    for (const std::vector<double>* config : {&open, &closed}) {
-      Eigen::Vector3d previous = Eigen::Vector3d::Zero(), last = Eigen::Vector3d::Zero();
-      for (size_t k = 0; k < f.bodies.size(); ++k) {
-        previous = last;
-        last = in_palm(*config, f.bodies[k]);
-        g.finger_points.push_back(last);
-      }
-      if (f.bodies.size() >= 2) g.finger_points.push_back(last + (last - previous));
+    // The open finger, about straight: its segments' origins and its tip, estimated from the
+    // segment before the last. (Closing, the fingers curl towards the object and stop on it.)
+    Eigen::Vector3d previous = Eigen::Vector3d::Zero(), last = Eigen::Vector3d::Zero();
+    for (const std::string& body : f.bodies) {
+      previous = last;
+      last = in_palm(open, body);
+      g.finger_points.push_back(last);
     }
+    if (f.bodies.size() >= 2) g.finger_points.push_back(2 * last - previous);
     ++g.fingers;
   }
   g.aperture_m = g.fingers >= 2 ? hi - lo : 0;
@@ -250,8 +250,8 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       c.free_turn_rad = turn;
     }
     c.score = cost + (width > kLooseFit * hand.aperture_m ? 10.0 : 0.0);
-    // Fingers that would reach the support even held back: the last resort.
-    if (c.place(hand, 0).support_gap_m < 0) c.score += 20.0;
+    // A hand coming down whose fingers would reach the support even held back: the last resort.
+    if (c.approach.z() < -kDownward && c.place(hand, 0).support_gap_m < 0) c.score += 20.0;
     out.push_back(c);
   };
 

@@ -15,8 +15,8 @@
 // over the aperture of its fingers) is left out; the rest are ranked: those that fit loosely
 // before tight ones, then by how directly the hand comes in from where it is (a side approach
 // pointing away from the robot is the easiest), top grasps between the direct and the oblique
-// side approaches, vertical closings last, and after all of them those whose fingers would
-// reach down onto the surface the object stands on. Ids name the family and index and stay the
+// side approaches, vertical closings last, and after all of them those coming down whose fingers
+// would reach the surface the object stands on. Ids name the family and index and stay the
 // same while the object and the robot's side of it do, so a grasp that failed can be left out of
 // the next attempt.
 #pragma once
@@ -45,8 +45,8 @@ struct HandGeometry {
   // when the hand is closed (`fist`): a section grasped nearer the palm than this lies behind
   // the closed fingertips, out of their reach, unless the fingers curl back to the palm.
   double closed_reach_m = 0;
-  // Points of the fingers in the palm frame, open and closed: their segments' origins and an
-  // estimate of each fingertip (the last segment taken as long as the one before it).
+  // Points of the open fingers in the palm frame: their segments' origins and an estimate of
+  // each fingertip (the last segment as long as the one before it, straight on).
   std::vector<Eigen::Vector3d> finger_points;
   int fingers = 0;
   // Fingers that must touch an object for the hand to hold it: a majority of its fingers.
