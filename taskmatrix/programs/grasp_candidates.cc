@@ -19,6 +19,12 @@ constexpr double kRoundTolerance = 0.003;
 // this share of the aperture, turning at most kMaxTurn.
 constexpr double kTurnFit = 0.9;
 constexpr double kMaxTurn = 0.35;
+// How far the fingers stay over the surface the object stands on, and the share of the
+// approach that is downward for the hand to stop short of that surface.
+constexpr double kSupportClearance = 0.005;
+constexpr double kDownward = 0.1;
+constexpr double kSettle = 0.003;
+constexpr double kGraspableReach = 0.03 - kSettle;
 
 Eigen::Vector3d horizontal(Eigen::Vector3d v) {
   v.z() = 0;
@@ -136,20 +142,39 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
       open = posture->second.at(chain);
     }
   }
-  const core::Pose palm = skills.frame_pose_at({chain}, open, hand.palm);
-  double lo = INFINITY, hi = -INFINITY, depth = 0;
+  std::vector<double> closed = open;
+  const auto fist = skills.profile().postures.find("fist");
+  if (fist != skills.profile().postures.end() && fist->second.count(chain)) {
+    closed = fist->second.at(chain);
+  }
+  // A finger body's origin in the palm frame, with the hand at `config`.
+  auto in_palm = [&](const std::vector<double>& config, const std::string& body) {
+    const core::Pose p = skills.frame_pose_at({chain}, config, body);
+    const core::Pose at = skills.frame_pose_at({chain}, config, hand.palm);
+    return Eigen::Vector3d(at.orientation.conjugate() * (p.position - at.position));
+  };
+  double lo = INFINITY, hi = -INFINITY, depth = 0, reach = 0;
   for (const core::FingerSpec& f : hand.fingers) {
     if (f.bodies.empty()) continue;
-    const Eigen::Vector3d base =
-        palm.orientation.conjugate() *
-        (skills.frame_pose_at({chain}, open, f.bodies.front()).position - palm.position);
+    const Eigen::Vector3d base = in_palm(open, f.bodies.front());
     lo = std::min(lo, base.dot(g.closing));
     hi = std::max(hi, base.dot(g.closing));
     depth += -base.dot(g.approach);
+    reach += in_palm(closed, f.bodies.back()).dot(g.approach);
+    // The open finger, about straight: its segments' origins and its tip, estimated from the
+    // segment before the last. (Closing, the fingers curl towards the object and stop on it.)
+    Eigen::Vector3d previous = Eigen::Vector3d::Zero(), last = Eigen::Vector3d::Zero();
+    for (const std::string& body : f.bodies) {
+      previous = last;
+      last = in_palm(open, body);
+      g.finger_points.push_back(last);
+    }
+    if (f.bodies.size() >= 2) g.finger_points.push_back(2 * last - previous);
     ++g.fingers;
   }
   g.aperture_m = g.fingers >= 2 ? hi - lo : 0;
   g.palm_depth_m = g.fingers > 0 ? std::max(0.0, depth / g.fingers) : 0;
+  g.closed_reach_m = g.fingers > 0 ? std::max(0.0, reach / g.fingers) : 0;
   g.fingers_needed = std::min(g.fingers, g.fingers / 2 + 1);
   return g;
 }
@@ -159,10 +184,24 @@ GraspCandidate::Placement GraspCandidate::place(const HandGeometry& hand, double
   const Eigen::Vector3d across = approach.cross(closing).normalized();
   palm << hand.approach, hand.closing, hand.approach.cross(hand.closing);
   world << approach, closing.normalized(), across;
-  const double back = std::max(0.0, half_depth_m + clearance - hand.palm_depth_m);
+  double back = std::max({0.0, half_depth_m + clearance - hand.palm_depth_m, hand.closed_reach_m});
   Placement p;
-  p.pose.position = centre - back * approach;
   p.pose.orientation = Eigen::Quaterniond(world * palm.transpose()).normalized();
+  double lowest = INFINITY;  // the lowest finger point with the palm frame at `centre`
+  for (const Eigen::Vector3d& f : hand.finger_points) {
+    lowest = std::min(lowest, centre.z() + (p.pose.orientation * f).z());
+  }
+  const double gap = lowest - back * approach.z() - support_z;
+  // Coming down (from above or obliquely), the hand stops with its fingers over the support.
+  // Not beyond where graspable() finds the palm: within 3 cm of the grasp point, or inside the
+  // box of an object that is no tool (less the 3 mm the arm settles within).
+  const double max_back =
+      std::max(kGraspableReach, family == "grip" ? 0.0 : half_depth_m - kSettle);
+  if (gap < kSupportClearance && approach.z() < -kDownward && back < max_back) {
+    back = std::min(back + (kSupportClearance - gap) / -approach.z(), max_back);
+  }
+  p.support_gap_m = lowest - back * approach.z() - support_z;
+  p.pose.position = centre - back * approach;
   // Turning about a parallel axis through the palm frame moves the hand off the grasp by the
   // frame's distance from the axis times the turn: keep that under a centimetre.
   const double off_axis = back * approach.cross(free_axis).norm();
@@ -191,7 +230,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   if (toward.isZero()) toward = ex;
   const Eigen::Vector3d ey = up.cross(ex);
   const bool round = geometry.round();
-  const double top = geometry.extent(up).second;
+  const double bottom = geometry.extent(up).first, top = geometry.extent(up).second;
   std::map<std::string, int> counts;
   auto add = [&](const std::string& family, Eigen::Vector3d at, const Eigen::Vector3d& approach,
                  const Eigen::Vector3d& closing, double width, double half_depth,
@@ -205,11 +244,14 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
     c.closing = closing.normalized();
     c.width_m = width;
     c.half_depth_m = half_depth;
+    c.support_z = bottom;
     if (turn > 0) {
       c.free_axis = free_axis.normalized();
       c.free_turn_rad = turn;
     }
     c.score = cost + (width > kLooseFit * hand.aperture_m ? 10.0 : 0.0);
+    // A hand coming down whose fingers would reach the support even held back: the last resort.
+    if (c.approach.z() < -kDownward && c.place(hand, 0).support_gap_m < 0) c.score += 20.0;
     out.push_back(c);
   };
 

@@ -15,11 +15,13 @@
 // over the aperture of its fingers) is left out; the rest are ranked: those that fit loosely
 // before tight ones, then by how directly the hand comes in from where it is (a side approach
 // pointing away from the robot is the easiest), top grasps between the direct and the oblique
-// side approaches, vertical closings last. Ids name the family and index and stay the same
-// while the object and the robot's side of it do, so a grasp that failed can be left out of the
-// next attempt.
+// side approaches, vertical closings last, and after all of them those coming down whose fingers
+// would reach the surface the object stands on. Ids name the family and index and stay the
+// same while the object and the robot's side of it do, so a grasp that failed can be left out of
+// the next attempt.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,13 @@ struct HandGeometry {
   // How far behind the palm frame (against the approach axis) the fingers' first joints sit:
   // about where the palm is.
   double palm_depth_m = 0;
+  // How far ahead of the palm frame (along the approach axis) the fingers' last segments begin
+  // when the hand is closed (`fist`): a section grasped nearer the palm than this lies behind
+  // the closed fingertips, out of their reach, unless the fingers curl back to the palm.
+  double closed_reach_m = 0;
+  // Points of the open fingers in the palm frame: their segments' origins and an estimate of
+  // each fingertip (the last segment as long as the one before it, straight on).
+  std::vector<Eigen::Vector3d> finger_points;
   int fingers = 0;
   // Fingers that must touch an object for the hand to hold it: a majority of its fingers.
   int fingers_needed = 0;
@@ -56,6 +65,9 @@ struct GraspCandidate {
   Eigen::Vector3d closing = Eigen::Vector3d::UnitY();
   double width_m = 0;       // the object's extent along `closing`
   double half_depth_m = 0;  // and against `approach`, from `centre` to its near side
+  // The height of the object's bottom: the surface it stands on, which the fingers must not
+  // reach (a finger stopped on it closes on nothing).
+  double support_z = -INFINITY;
   // A world axis through `centre` about which the hand may turn and still hold the object
   // (the vertical for an upright object, a handle's axis), and how far; zero: none.
   Eigen::Vector3d free_axis = Eigen::Vector3d::Zero();
@@ -63,11 +75,15 @@ struct GraspCandidate {
   double score = 0;  // lower is better
 
   // Where the palm frame goes for the palm to stay `clearance` metres off the object's near
-  // side (the palm is the hand's palm_depth_m behind its frame), and how far the hand may turn
-  // about `free_axis` there: the turn is about the palm frame, so off the axis it is less.
+  // side (the palm is the hand's palm_depth_m behind its frame) with the grasped section no
+  // nearer the palm than the closed fingers reach (closed_reach_m), and how far the hand may
+  // turn about `free_axis` there: the turn is about the palm frame, so off the axis it is less.
+  // A hand coming down is held back until its fingers stay over the support; `support_gap_m`:
+  // how far the lowest finger point stays above the support there (negative: below it).
   struct Placement {
     core::Pose pose;
     double free_turn_rad = 0;
+    double support_gap_m = INFINITY;
   };
   Placement place(const HandGeometry& hand, double clearance) const;
 };

@@ -1,0 +1,99 @@
+// Grasp candidates for every robot's hands in every environment: the fingers stay off the
+// surface the object stands on, and a tool's handle sits where the closed fingers reach it.
+#include "taskmatrix/programs/grasp_candidates.h"
+
+#include <gtest/gtest.h>
+
+#include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/mujoco_skillset.h"
+#include "tests/test_support.h"
+
+namespace taskmatrix::programs {
+namespace {
+
+class GraspCandidatesTest : public ::testing::TestWithParam<test::RobotEnv> {
+ protected:
+  void SetUp() override {
+    skills_ = std::make_unique<mujoco::MujocoSkillset>(
+        test::scene(GetParam().robot, GetParam().environment));
+    mujoco::GroundTruthPerception(*skills_).update(0, model_);
+  }
+  const core::PerceivedObject& object(const std::string& id) const {
+    const core::PerceivedObject* o = model_.find(id);
+    if (!o) throw std::runtime_error("no '" + id + "' in " + GetParam().environment);
+    return *o;
+  }
+  // The palm frame's lowest finger point over `support_z` at `pose`.
+  static double finger_gap(const HandGeometry& hand, const core::Pose& pose, double support_z) {
+    double lowest = INFINITY;
+    for (const Eigen::Vector3d& f : hand.finger_points) {
+      lowest = std::min(lowest, (pose.position + pose.orientation * f).z());
+    }
+    return lowest - support_z;
+  }
+  std::unique_ptr<mujoco::MujocoSkillset> skills_;
+  core::PerceptualModel model_;
+};
+
+TEST_P(GraspCandidatesTest, FingersStayOverTheSurfaceTheCupStandsOn) {
+  const core::PerceivedObject& cup = object("cup");
+  const double table = cup.box.min().z();
+  for (const core::HandSpec& spec : skills_->profile().hands) {
+    const HandGeometry hand = measure_hand(*skills_, spec);
+    ASSERT_FALSE(hand.finger_points.empty()) << spec.side;
+    const std::vector<GraspCandidate> all =
+        grasp_candidates(cup, hand, skills_->frame_pose(spec.palm).position);
+    ASSERT_FALSE(all.empty()) << spec.side;
+    // A hand coming down keeps every open finger point over the table, and the placement says
+    // so; from above, it is held back over the cup.
+    for (const GraspCandidate& c : all) {
+      if (c.approach.z() >= -0.1 || c.score >= 20) continue;
+      for (double clearance : {0.01, 0.025}) {
+        const GraspCandidate::Placement at = c.place(hand, clearance);
+        EXPECT_GE(at.support_gap_m, 0.0) << spec.side << " " << c.id;
+        EXPECT_NEAR(at.support_gap_m, finger_gap(hand, at.pose, table), 1e-3) << c.id;
+      }
+    }
+    for (const GraspCandidate& c : all) {
+      if (c.family != "top") continue;
+      const GraspCandidate::Placement at = c.place(hand, 0.01);
+      EXPECT_GE(at.support_gap_m, 0.0) << spec.side << " " << c.id;
+      // The palm frame stays over the cup, inside its box (where graspable() finds it).
+      EXPECT_LE(at.pose.position.z(), cup.box.max().z()) << spec.side << " " << c.id;
+      EXPECT_GE(at.pose.position.z(), cup.box.center().z()) << spec.side << " " << c.id;
+    }
+  }
+}
+
+TEST_P(GraspCandidatesTest, AHandleSitsWhereTheClosedFingersReachIt) {
+  const core::PerceivedObject& tool = object("vacuum");
+  ASSERT_TRUE(tool.frames.count("grip"));
+  const Eigen::Vector3d grip = tool.frames.at("grip").position;
+  for (const core::HandSpec& spec : skills_->profile().hands) {
+    const HandGeometry hand = measure_hand(*skills_, spec);
+    const std::vector<GraspCandidate> all =
+        grasp_candidates(tool, hand, skills_->frame_pose(spec.palm).position);
+    ASSERT_FALSE(all.empty()) << spec.side;
+    for (const GraspCandidate& c : all) {
+      ASSERT_EQ(c.family, "grip");
+      const GraspCandidate::Placement at = c.place(hand, 0.01);
+      // The handle's axis lies at least as far out as the closed fingers' last segments begin,
+      // and the palm frame within graspable()'s 3 cm of the grip (less the arm's settling).
+      const double depth = (grip - at.pose.position).dot(c.approach);
+      EXPECT_GE(depth, hand.closed_reach_m - 1e-9) << spec.side << " " << c.id;
+      EXPECT_LE((grip - at.pose.position).norm(), 0.027 + 1e-9) << spec.side << " " << c.id;
+      if (c.approach.z() < -0.1 && c.score < 20) {
+        EXPECT_GE(at.support_gap_m, 0.0) << spec.side << " " << c.id;
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryRobot, GraspCandidatesTest,
+                         ::testing::ValuesIn(test::all_robot_environment_pairs()),
+                         [](const ::testing::TestParamInfo<test::RobotEnv>& p) {
+                           return test::pair_name(p.param);
+                         });
+
+}  // namespace
+}  // namespace taskmatrix::programs
