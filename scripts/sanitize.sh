@@ -10,7 +10,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="${TASKMATRIX_JOBS:-2}"
+# GCC 12 warns maybe-uninitialized inside libstdc++'s <regex> when instrumented (a false
+# positive); it stays a warning here, every other warning is an error as in the Release build.
 flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -g1"
+flags="$flags -Wno-error=maybe-uninitialized"
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTASKMATRIX_WERROR=ON \
   -DTASKMATRIX_BUILD_BENCH=OFF "-DCMAKE_CXX_FLAGS=$flags" "-DCMAKE_C_FLAGS=$flags" \
   "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined" >/dev/null
