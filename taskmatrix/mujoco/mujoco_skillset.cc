@@ -14,21 +14,9 @@ namespace taskmatrix::mujoco {
 
 namespace {
 
-constexpr double kLimitSlack = 1e-9;
-// A command this far past a limit is rounding (of arithmetic on the limit's value) and is
-// clamped to it; further is an error of the caller.
-constexpr double kCommandTolerance = 1e-6;
-
 std::string body_name(const mjModel* m, int body) {
   const char* name = mj_id2name(m, mjOBJ_BODY, body);
   return name ? name : "body " + std::to_string(body);
-}
-
-core::PlanResult plan_failure(core::PlanStatus status, std::string message) {
-  core::PlanResult r;
-  r.status = status;
-  r.message = std::move(message);
-  return r;
 }
 
 }  // namespace
@@ -123,13 +111,13 @@ void MujocoSkillset::set_visitor_walk(double speed_mps) {
 void MujocoSkillset::collect_debris() {
   const std::vector<int> removed = world_.collect_debris(worker_.model(), worker_.data(), held_);
   if (removed.empty()) return;
-  if (record_every_ > 0) {
+  if (recording_states()) {
     for (int body : removed) recording_.removals.push_back({worker_.data()->time, body});
   }
   mj_forward(worker_.model(), worker_.data());
 }
 
-core::CameraInfo MujocoSkillset::head_camera() const {
+core::CameraInfo MujocoSkillset::do_head_camera() const {
   const HeadSensorOptions sensor;
   core::CameraInfo info;
   info.frame = profile().head_camera.name;
@@ -139,7 +127,7 @@ core::CameraInfo MujocoSkillset::head_camera() const {
   return info;
 }
 
-core::DepthScan MujocoSkillset::scan_depth() {
+core::DepthScan MujocoSkillset::do_scan_depth() {
   if (!sensor_) sensor_ = std::make_unique<HeadSensor>(*this);
   const SensorImage& image = sensor_->capture();
   core::DepthScan scan;
@@ -177,7 +165,7 @@ void MujocoSkillset::mark_obstacle_perceived(int slot) { belief_.mark_perceived(
 bool MujocoSkillset::obstacle_known(int slot) const { return belief_.known(slot); }
 
 void MujocoSkillset::require_no_query(const char* what) const {
-  if (belief_.in_scope()) {
+  if (belief_.in_scope() || in_query()) {
     throw std::logic_error(std::string(what) + " while a query is running (from a callback)");
   }
 }
@@ -196,26 +184,6 @@ void MujocoSkillset::reset() {
   servo_.hold_current(d);
   mj_forward(worker_.model(), d);
   if (execution_ == ExecutionMode::kKinematic) settle_free_objects();
-}
-
-std::optional<core::PlanResult> MujocoSkillset::plan_joints(
-    const std::vector<std::string>& chain_names, std::vector<int>& joints) const {
-  try {
-    joints = joints_of(chain_names);
-  } catch (const std::invalid_argument& e) {
-    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
-  }
-  return std::nullopt;
-}
-
-std::optional<core::PlanResult> MujocoSkillset::touch_geoms(const core::PlanOptions& options,
-                                                            std::vector<int>& geoms) const {
-  try {
-    geoms = object_geoms(options.may_touch);
-  } catch (const std::invalid_argument& e) {
-    return plan_failure(core::PlanStatus::kInvalidInput, std::string("may_touch: ") + e.what());
-  }
-  return std::nullopt;
 }
 
 std::vector<int> MujocoSkillset::joints_of(const std::vector<std::string>& chain_names) const {
@@ -237,37 +205,6 @@ std::vector<int> MujocoSkillset::joints_of(const std::vector<std::string>& chain
     }
   }
   return joints;
-}
-
-void MujocoSkillset::check_values(const std::vector<std::string>& chain_names,
-                                  const std::vector<int>& joints, const std::vector<double>& values,
-                                  const char* what) const {
-  if (values.size() != joints.size()) {
-    std::string chains;
-    for (const std::string& c : chain_names) chains += (chains.empty() ? "" : ",") + c;
-    throw std::invalid_argument(std::string(what) + " has " + std::to_string(values.size()) +
-                                " values but chains [" + chains + "] have " +
-                                std::to_string(joints.size()) + " joints");
-  }
-  for (size_t i = 0; i < values.size(); ++i) {
-    if (!std::isfinite(values[i])) {
-      throw std::invalid_argument(std::string(what) + " value for joint '" +
-                                  mj_id2name(worker_.model(), mjOBJ_JOINT, joints[i]) +
-                                  "' is not finite");
-    }
-  }
-}
-
-bool MujocoSkillset::within_limits(const std::vector<int>& joints,
-                                   const std::vector<double>& values) const {
-  const mjModel* m = worker_.model();
-  for (size_t i = 0; i < joints.size(); ++i) {
-    if (values[i] < m->jnt_range[2 * joints[i]] - kLimitSlack ||
-        values[i] > m->jnt_range[2 * joints[i] + 1] + kLimitSlack) {
-      return false;
-    }
-  }
-  return true;
 }
 
 void MujocoSkillset::sync_query() {
@@ -332,7 +269,7 @@ std::vector<char> MujocoSkillset::moved_bodies(const std::vector<int>& joints) c
   return moved;
 }
 
-std::vector<double> MujocoSkillset::configuration(
+std::vector<double> MujocoSkillset::do_configuration(
     const std::vector<std::string>& chain_names) const {
   std::vector<double> values;
   for (int j : joints_of(chain_names))
@@ -340,7 +277,7 @@ std::vector<double> MujocoSkillset::configuration(
   return values;
 }
 
-core::Pose MujocoSkillset::frame_pose(const std::string& frame) const {
+core::Pose MujocoSkillset::do_frame_pose(const std::string& frame) const {
   try {
     return mujoco::frame_pose(worker_.data(), resolve_frame(*scene_, worker_.data(), frame));
   } catch (const std::out_of_range&) {
@@ -349,11 +286,10 @@ core::Pose MujocoSkillset::frame_pose(const std::string& frame) const {
   }
 }
 
-core::Pose MujocoSkillset::frame_pose_at(const std::vector<std::string>& chain_names,
-                                         const std::vector<double>& values,
-                                         const std::string& frame) {
+core::Pose MujocoSkillset::do_frame_pose_at(const std::vector<std::string>& chain_names,
+                                            const std::vector<double>& values,
+                                            const std::string& frame) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, values, "configuration");
   const mjModel* m = worker_.model();
   mjData* q = query_.get();
   sync_query();
@@ -370,47 +306,30 @@ core::Pose MujocoSkillset::frame_pose_at(const std::vector<std::string>& chain_n
   }
 }
 
-core::IkResult MujocoSkillset::solve_ik(const std::vector<std::string>& chain_names,
-                                        const std::string& frame, const core::Pose& target,
-                                        const core::IkOptions& options) {
-  std::vector<int> joints;
-  try {
-    joints = joints_of(chain_names);
-  } catch (const std::invalid_argument& e) {
-    core::IkResult r;
-    r.reason = e.what();
-    return r;
-  }
+core::IkResult MujocoSkillset::do_solve_ik(const std::vector<std::string>& chain_names,
+                                           const std::string& frame, const core::Pose& target,
+                                           const core::IkOptions& options) {
+  const std::vector<int> joints = joints_of(chain_names);
   const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
-  core::IkResult result = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame,
-                                           target, options, held_.list());
-  ++work_.ik_calls;
-  work_.ik_time_s += result.time_s;
-  return result;
+  return mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame, target, options,
+                          held_.list());
 }
 
-bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
-                              const std::vector<double>& values) {
+bool MujocoSkillset::do_is_valid(const std::vector<std::string>& chain_names,
+                                 const std::vector<double>& values) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, values, "configuration");
-  if (!within_limits(joints, values)) return false;
   const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
   ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, held_.list());
-  ++work_.collision_checks;
   return !checker.in_collision(values.data());
 }
 
-double MujocoSkillset::clearance(const std::vector<std::string>& chain_names,
-                                 const std::vector<double>& values, double max_distance_m) {
+double MujocoSkillset::do_clearance(const std::vector<std::string>& chain_names,
+                                    const std::vector<double>& values, double max_distance_m) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, values, "configuration");
-  if (!(std::isfinite(max_distance_m) && max_distance_m > 0)) {
-    throw std::invalid_argument("clearance cap must be a positive number of metres");
-  }
   const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
@@ -418,172 +337,35 @@ double MujocoSkillset::clearance(const std::vector<std::string>& chain_names,
   return checker.distance(values.data(), max_distance_m);
 }
 
-core::PlanResult MujocoSkillset::plan_to_configuration(const std::vector<std::string>& chain_names,
-                                                       const std::vector<double>& goal,
-                                                       const core::PlanOptions& options) {
-  std::vector<int> joints, touch;
-  if (auto bad = plan_joints(chain_names, joints)) return *bad;
-  if (auto bad = touch_geoms(options, touch)) return *bad;
+std::string MujocoSkillset::do_plan_options_error(const core::PlanOptions& options) const {
+  try {
+    object_geoms(options.may_touch);
+  } catch (const std::invalid_argument& e) {
+    return std::string("may_touch: ") + e.what();
+  }
+  return "";
+}
+
+core::PlanResult MujocoSkillset::do_plan(const std::vector<std::string>& chain_names,
+                                         const std::vector<std::vector<double>>& goals,
+                                         const core::PlanOptions& options) {
+  const std::vector<int> joints = joints_of(chain_names);
   const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
-  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, held_.list(), touch);
-  return note_plan("configuration", planner.plan({goal}, options));
-}
-
-core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& chain_names,
-                                               const std::string& frame,
-                                               const std::vector<core::Pose>& targets,
-                                               const core::PlanOptions& options,
-                                               const core::IkOptions& ik) {
-  return note_plan("poses", plan_to_poses_unrecorded(chain_names, frame, targets, options, ik));
-}
-
-core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
-    const std::vector<std::string>& chain_names, const std::string& frame,
-    const std::vector<core::Pose>& targets, const core::PlanOptions& options,
-    const core::IkOptions& ik) {
-  std::vector<int> joints, touch;
-  if (auto bad = plan_joints(chain_names, joints)) return *bad;
-  if (auto bad = touch_geoms(options, touch)) return *bad;
-  if (targets.empty()) return plan_failure(core::PlanStatus::kInvalidInput, "no target poses");
-  const ObstacleBelief::Scope belief(belief_, worker_.model());
-  refresh_supports();
-  core::PlanResult total;
-  total.status = core::PlanStatus::kIkFailure;
-  std::string ik_reasons;  // every pose's IK failure: the detail
-  int unreachable = 0, in_collision = 0, best_pose = -1;
-  double best_position = 0, best_angle = 0;
-  bool any_planned = false;
-  for (size_t k = 0; k < targets.size(); ++k) {
-    sync_query();
-    const core::IkResult solved = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints,
-                                                   frame, targets[k], ik, held_.list());
-    total.ik_time_s += solved.time_s;
-    ++work_.ik_calls;
-    if (solved.status == core::IkStatus::kInvalidInput) {
-      total.status = core::PlanStatus::kInvalidInput;
-      total.message = "target pose " + std::to_string(k) + ": " + solved.reason;
-      return total;
-    }
-    if (solved.status != core::IkStatus::kSolved) {
-      ik_reasons += (ik_reasons.empty() ? "" : "; ") + std::string("pose ") + std::to_string(k) +
-                    ": " + core::to_string(solved.status) + " (" + solved.reason + ")";
-      (solved.status == core::IkStatus::kInCollision ? in_collision : unreachable) += 1;
-      const bool better =
-          best_pose < 0 || solved.position_error_m < best_position ||
-          (solved.position_error_m == best_position && solved.orientation_error_rad < best_angle);
-      if (better) {
-        best_pose = static_cast<int>(k);
-        best_position = solved.position_error_m;
-        best_angle = solved.orientation_error_rad;
-      }
-      continue;
-    }
-    MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, held_.list(), touch);
-    const core::PlanResult r = planner.plan(solved.solutions, options);
-    any_planned = true;
-    total.planning_time_s += r.planning_time_s;
-    total.simplification_time_s += r.simplification_time_s;
-    total.planning_hit_time_limit |= r.planning_hit_time_limit;
-    total.simplification_hit_time_limit |= r.simplification_hit_time_limit;
-    total.planner_iterations += r.planner_iterations;
-    total.collision_checks += r.collision_checks;
-    total.graph_states += r.graph_states;
-    total.plan_calls += r.plan_calls;
-    total.status = r.status;
-    total.message = "pose " + std::to_string(k) + ": " + r.message;
-    if (r.status == core::PlanStatus::kInvalidStart || r.status == core::PlanStatus::kInvalidInput)
-      return total;  // no other pose can do better
-    if (r.success()) {
-      total.path = r.path;
-      total.goal_index = static_cast<int>(k);
-      total.message.clear();
-      return total;
-    }
-  }
-  if (!any_planned) {
-    // A summary of bounded length; every attempt is in `detail`.
-    char best[160];
-    std::snprintf(best, sizeof best, "; the closest, pose %d, ended %.1f cm and %.1f deg off",
-                  best_pose, best_position * 100, best_angle * 180 / M_PI);
-    total.message = "no target pose has an IK solution: " + std::to_string(targets.size()) +
-                    (targets.size() == 1 ? " pose" : " poses") + " tried (" +
-                    std::to_string(unreachable) + " unreachable, " + std::to_string(in_collision) +
-                    " with every solution in collision)" + (best_pose >= 0 ? best : "");
-    total.detail = ik_reasons;
-  }
-  return total;
-}
-
-core::PlanResult MujocoSkillset::plan_to_region(const std::vector<std::string>& chain_names,
-                                                const core::GoalRegion& region,
-                                                const core::PlanOptions& options) {
-  return note_plan("region", plan_to_region_unrecorded(chain_names, region, options));
-}
-
-core::PlanResult MujocoSkillset::plan_to_region_unrecorded(
-    const std::vector<std::string>& chain_names, const core::GoalRegion& region,
-    const core::PlanOptions& options) {
-  std::vector<int> joints, touch;
-  if (auto bad = plan_joints(chain_names, joints)) return *bad;
-  if (auto bad = touch_geoms(options, touch)) return *bad;
-  if (!region.sample || region.max_draws <= 0 || region.max_goals <= 0) {
-    return plan_failure(core::PlanStatus::kInvalidInput,
-                        "a goal region needs a sampler and positive draw and goal counts");
-  }
-  const ObstacleBelief::Scope belief(belief_, worker_.model());
-  refresh_supports();
-  sync_query();
-  std::vector<std::vector<double>> goals;
-  {
-    ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, held_.list());
-    std::mt19937_64 rng(options.seed);
-    for (int draw = 0; draw < region.max_draws && static_cast<int>(goals.size()) < region.max_goals;
-         ++draw) {
-      std::optional<std::vector<double>> q = region.sample(rng);
-      if (!q) continue;
-      if (q->size() != joints.size() ||
-          !std::all_of(q->begin(), q->end(), [](double v) { return std::isfinite(v); })) {
-        return plan_failure(core::PlanStatus::kInvalidInput,
-                            "the goal region sampler returned a configuration of the wrong size "
-                            "or with NaN");
-      }
-      if (within_limits(joints, *q) && !checker.in_collision(q->data())) goals.push_back(*q);
-    }
-  }
-  if (goals.empty()) {
-    return plan_failure(
-        core::PlanStatus::kInvalidGoal,
-        "none of " + std::to_string(region.max_draws) + " draws from the goal region is valid");
-  }
-  sync_query();
-  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, held_.list(), touch);
+  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, held_.list(),
+                        object_geoms(options.may_touch));
   return planner.plan(goals, options);
 }
 
-double MujocoSkillset::time() const { return worker_.data()->time; }
+double MujocoSkillset::do_time() const { return worker_.data()->time; }
 
-void MujocoSkillset::command(const std::vector<std::string>& chain_names,
-                             const std::vector<double>& positions,
-                             const std::vector<double>& velocities,
-                             const std::vector<double>& accelerations) {
+void MujocoSkillset::do_command(const std::vector<std::string>& chain_names,
+                                const std::vector<double>& positions,
+                                const std::vector<double>& velocities,
+                                const std::vector<double>& accelerations) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, positions, "command");
-  if (!velocities.empty()) check_values(chain_names, joints, velocities, "command velocity");
-  if (!accelerations.empty())
-    check_values(chain_names, joints, accelerations, "command acceleration");
   const mjModel* m = worker_.model();
-  for (size_t i = 0; i < joints.size(); ++i) {
-    const double lo = m->jnt_range[2 * joints[i]], hi = m->jnt_range[2 * joints[i] + 1];
-    if (positions[i] < lo - kCommandTolerance || positions[i] > hi + kCommandTolerance) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf,
-                    "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]", positions[i],
-                    mj_id2name(m, mjOBJ_JOINT, joints[i]), lo, hi);
-      throw std::invalid_argument(buf);
-    }
-  }
   mjData* d = worker_.data();
   for (size_t i = 0; i < joints.size(); ++i) {
     const int j = joints[i];
@@ -611,50 +393,13 @@ void MujocoSkillset::set_configuration(const std::vector<std::string>& chain_nam
   mj_forward(m, d);
   have_last_ = false;  // a placement, not motion
   have_accel_ = false;
-  if (record_every_ > 0) record_frame();
+  if (recording_states()) record_frame();
 }
 
-core::PlanResult MujocoSkillset::note_plan(const char* kind, core::PlanResult result) {
-  PlanCallRecord r;
-  r.time_s = worker_.data()->time;
-  r.kind = kind;
-  r.status = core::to_string(result.status);
-  r.planner_runs = result.plan_calls;
-  r.planning_time_s = result.planning_time_s;
-  r.simplification_time_s = result.simplification_time_s;
-  r.planning_hit_time_limit = result.planning_hit_time_limit;
-  r.simplification_hit_time_limit = result.simplification_hit_time_limit;
-  r.planner_iterations = result.planner_iterations;
-  r.path_digest = path_digest(result.path);
-  r.ik_time_s = result.ik_time_s;
-  r.collision_checks = result.collision_checks;
-  r.path_states = static_cast<int>(result.path.size());
-  for (size_t k = 1; k < result.path.size(); ++k) {
-    double sq = 0;
-    for (size_t i = 0; i < result.path[k].size(); ++i) {
-      const double dq = result.path[k][i] - result.path[k - 1][i];
-      sq += dq * dq;
-    }
-    r.path_length += std::sqrt(sq);
-  }
-  work_.collision_checks += result.collision_checks;
-  work_.plans.push_back(std::move(r));
-  return result;
-}
-
-void MujocoSkillset::record_states(double rate_hz) {
-  if (!(std::isfinite(rate_hz) && rate_hz >= 0)) {
-    throw std::invalid_argument("recording rate must be a non-negative number of Hz");
-  }
-  if (rate_hz == 0) {
-    record_every_ = 0;
-    return;
-  }
-  record_every_ = std::max(1, static_cast<int>(std::lround(1.0 / (rate_hz * period_))));
+void MujocoSkillset::do_begin_recording(double frame_period_s) {
   recording_ = StateRecording{};
   recording_.nq = worker_.model()->nq;
-  recording_.frame_period_s = record_every_ * period_;
-  record_frame();
+  recording_.frame_period_s = frame_period_s;
 }
 
 void MujocoSkillset::record_frame() {
@@ -666,8 +411,7 @@ void MujocoSkillset::record_frame() {
 void MujocoSkillset::monitor_period() {
   const mjModel* m = worker_.model();
   const mjData* d = worker_.data();
-  ++work_.control_periods;
-  if (record_every_ > 0 && work_.control_periods % record_every_ == 0) record_frame();
+  core::WorkRecord& work = mutable_work();
   // Robot joints: positions, velocities, accelerations; end effectors: positions. The
   // buffers are members: no allocation per period once sized.
   cur_q_.clear();
@@ -687,9 +431,9 @@ void MujocoSkillset::monitor_period() {
     for (size_t i = 0; i < cur_q_.size(); ++i) {
       dq += (cur_q_[i] - last_q_[i]) * (cur_q_[i] - last_q_[i]);
     }
-    work_.path_length_joint += std::sqrt(dq);
+    work.path_length_joint += std::sqrt(dq);
     for (size_t i = 0; i + 2 < cur_ee_.size(); i += 3) {
-      work_.path_length_ee_m +=
+      work.path_length_ee_m +=
           std::hypot(cur_ee_[i] - last_ee_[i], cur_ee_[i + 1] - last_ee_[i + 1],
                      cur_ee_[i + 2] - last_ee_[i + 2]);
     }
@@ -701,8 +445,8 @@ void MujocoSkillset::monitor_period() {
         const double j = (cur_a_[i] - last_a_[i]) / period_;
         jerk_sq += j * j;
       }
-      work_.jerk_squared_sum += jerk_sq;
-      ++work_.jerk_samples;
+      work.jerk_squared_sum += jerk_sq;
+      ++work.jerk_samples;
     }
     std::swap(last_a_, cur_a_);
     have_accel_ = true;
@@ -711,15 +455,15 @@ void MujocoSkillset::monitor_period() {
   std::swap(last_v_, cur_v_);
   std::swap(last_ee_, cur_ee_);
   have_last_ = true;
-  if (clearance_every_ > 0 && !moving_.empty() && work_.control_periods % clearance_every_ == 0) {
+  if (clearance_every_ > 0 && !moving_.empty() && work.control_periods % clearance_every_ == 0) {
     // Against the world as it is (every obstacle, seen or not), not the robot's belief.
     sync_query();
     ValidityChecker checker(*scene_, m, query_.get(), moving_, held_.list());
     cur_q_.clear();
     for (int j : moving_) cur_q_.push_back(d->qpos[m->jnt_qposadr[j]]);
-    work_.min_clearance_m =
-        std::min(work_.min_clearance_m, checker.distance_to_world(cur_q_.data(), clearance_cap_m_));
-    ++work_.clearance_samples;
+    work.min_clearance_m =
+        std::min(work.min_clearance_m, checker.distance_to_world(cur_q_.data(), clearance_cap_m_));
+    ++work.clearance_samples;
   }
 }
 
@@ -742,8 +486,8 @@ void MujocoSkillset::step_physics() {
     }
     pruning_.before_collision(m, d);
     mj_step1(m, d);  // kinematics, contacts, bias forces at the new state
-    ++work_.contact_passes;
-    work_.contacts += d->ncon;
+    ++mutable_work().contact_passes;
+    mutable_work().contacts += d->ncon;
   }
   pruning_.end(m);
   servo_.hold_targets(d);
@@ -887,8 +631,8 @@ void MujocoSkillset::find_robot_contacts() {
   };
   for (const GeomPair& p : scene_->robot_geom_pairs()) add(p);
   for (const GeomPair& p : held_pairs_) add(p);
-  ++work_.contact_passes;
-  work_.contacts += d->ncon;
+  ++mutable_work().contact_passes;
+  mutable_work().contacts += d->ncon;
 }
 
 void MujocoSkillset::settle_objects(const std::vector<int>& bodies) {
@@ -961,7 +705,7 @@ void MujocoSkillset::settle_free_objects() {
   if (!bodies.empty()) settle_objects(bodies);
 }
 
-core::StepReport MujocoSkillset::advance() {
+core::StepReport MujocoSkillset::do_advance() {
   const mjModel* m = worker_.model();
   mjData* d = worker_.data();
   const auto t_step = std::chrono::steady_clock::now();
@@ -975,9 +719,9 @@ core::StepReport MujocoSkillset::advance() {
   }
   collect_debris();
   const auto t_monitor = std::chrono::steady_clock::now();
-  work_.stepping_wall_s += std::chrono::duration<double>(t_monitor - t_step).count();
+  mutable_work().stepping_wall_s += std::chrono::duration<double>(t_monitor - t_step).count();
   monitor_period();
-  work_.monitoring_wall_s +=
+  mutable_work().monitoring_wall_s +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_monitor).count();
   const int bad_after = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
                         d->warning[mjWARN_BADQPOS].number;
@@ -994,7 +738,7 @@ core::StepReport MujocoSkillset::advance() {
   return report;
 }
 
-std::vector<core::Collision> MujocoSkillset::collisions(
+std::vector<core::Collision> MujocoSkillset::do_collisions(
     const std::vector<std::string>& chain_names) const {
   const std::vector<char> moved = moved_bodies(joints_of(chain_names));
   const mjModel* m = worker_.model();
@@ -1017,7 +761,7 @@ std::vector<core::Collision> MujocoSkillset::collisions(
   return out;
 }
 
-void MujocoSkillset::attach(const std::string& object, const std::string& side) {
+void MujocoSkillset::do_attach(const std::string& object, const std::string& side) {
   const mjModel* m = worker_.model();
   const int body = object_body(object);
   const auto spec = scene_->environment().objects.find(object);
@@ -1030,11 +774,7 @@ void MujocoSkillset::attach(const std::string& object, const std::string& side) 
       m->jnt_type[m->body_jntadr[body]] != mjJNT_FREE) {
     throw std::invalid_argument("object '" + object + "' is not a free body and cannot be held");
   }
-  if (held_.find(object)) {
-    throw std::invalid_argument("object '" + object + "' is already attached");
-  }
   const core::HandSpec* hand = profile().find_hand(side);
-  if (!hand) throw std::invalid_argument("no hand on side '" + side + "'");
   mjData* d = worker_.data();
   mj_forward(m, d);
   held_.add(
@@ -1046,7 +786,7 @@ void MujocoSkillset::attach(const std::string& object, const std::string& side) 
   if (execution_ == ExecutionMode::kKinematic) find_robot_contacts();
 }
 
-void MujocoSkillset::detach(const std::string& object) {
+void MujocoSkillset::do_detach(const std::string& object) {
   const int body = held_.remove(object);
   if (body < 0) throw std::invalid_argument("object '" + object + "' is not attached");
   pruning_.set_held(body, false);
@@ -1056,9 +796,9 @@ void MujocoSkillset::detach(const std::string& object) {
   if (execution_ == ExecutionMode::kKinematic) find_robot_contacts();
 }
 
-std::vector<std::string> MujocoSkillset::attached_objects() const { return held_.objects(); }
+std::vector<std::string> MujocoSkillset::do_attached_objects() const { return held_.objects(); }
 
-std::string MujocoSkillset::holder_of(const std::string& object) const {
+std::string MujocoSkillset::do_holder_of(const std::string& object) const {
   const Attachment* a = held_.find(object);
   return a ? a->side : "";
 }
@@ -1080,7 +820,7 @@ std::string MujocoSkillset::name_of_body(int body) const {
   return body_name(m, body);
 }
 
-std::vector<std::string> MujocoSkillset::touching(const std::string& part) const {
+std::vector<std::string> MujocoSkillset::do_touching(const std::string& part) const {
   const mjModel* m = worker_.model();
   const mjData* d = worker_.data();
   int body = object_body(part);

@@ -109,11 +109,7 @@ class MujocoSkillset final : public core::Skillset {
   const std::vector<int>& removed_debris() const { return world_.removed_debris(); }
   bool removed(int body) const { return world_.removed(body); }
 
-  // What this skillset did since it was made (plans, IK, checks, executed motion).
-  const WorkRecord& work() const { return work_; }
-  // From now on, records the simulated state every `rate_hz`-th of a second of simulated time
-  // (at the nearest whole number of control periods; 0 stops), starting with the current state.
-  void record_states(double rate_hz);
+  // The state recording (core::Skillset::record_states): every generalized position.
   const StateRecording& recording() const { return recording_; }
 
   ExecutionMode execution() const { return execution_; }
@@ -123,70 +119,48 @@ class MujocoSkillset final : public core::Skillset {
   const mjData* sim_data() const { return worker_.data(); }
   const std::vector<Attachment>& attachments() const { return held_.list(); }
 
-  // core::Skillset
-  const core::RobotProfile& profile() const override { return scene_->robot(); }
-  const std::vector<core::ChainInfo>& chains() const override { return chains_; }
-  std::vector<double> configuration(const std::vector<std::string>& chain_names) const override;
-  core::Pose frame_pose(const std::string& frame) const override;
-  core::Pose frame_pose_at(const std::vector<std::string>& chain_names,
-                           const std::vector<double>& values, const std::string& frame) override;
-  core::IkResult solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
-                          const core::Pose& target, const core::IkOptions& options) override;
-  bool is_valid(const std::vector<std::string>& chain_names,
-                const std::vector<double>& values) override;
-  double clearance(const std::vector<std::string>& chain_names, const std::vector<double>& values,
-                   double max_distance_m) override;
-  core::PlanResult plan_to_configuration(const std::vector<std::string>& chain_names,
-                                         const std::vector<double>& goal,
-                                         const core::PlanOptions& options) override;
-  core::PlanResult plan_to_poses(const std::vector<std::string>& chain_names,
-                                 const std::string& frame, const std::vector<core::Pose>& targets,
-                                 const core::PlanOptions& options,
-                                 const core::IkOptions& ik) override;
-  core::PlanResult plan_to_region(const std::vector<std::string>& chain_names,
-                                  const core::GoalRegion& region,
-                                  const core::PlanOptions& options) override;
-  double time() const override;
-  double control_period() const override { return period_; }
-  void command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
-               const std::vector<double>& velocities = {},
-               const std::vector<double>& accelerations = {}) override;
-  core::StepReport advance() override;
-  std::vector<core::Collision> collisions(
+ protected:
+  // core::Skillset's hooks.
+  const core::RobotProfile& do_profile() const override { return scene_->robot(); }
+  const std::vector<core::ChainInfo>& do_chains() const override { return chains_; }
+  std::vector<double> do_configuration(const std::vector<std::string>& chain_names) const override;
+  core::Pose do_frame_pose(const std::string& frame) const override;
+  core::Pose do_frame_pose_at(const std::vector<std::string>& chain_names,
+                              const std::vector<double>& values, const std::string& frame) override;
+  core::IkResult do_solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
+                             const core::Pose& target, const core::IkOptions& options) override;
+  bool do_is_valid(const std::vector<std::string>& chain_names,
+                   const std::vector<double>& values) override;
+  double do_clearance(const std::vector<std::string>& chain_names,
+                      const std::vector<double>& values, double max_distance_m) override;
+  std::string do_plan_options_error(const core::PlanOptions& options) const override;
+  core::PlanResult do_plan(const std::vector<std::string>& chain_names,
+                           const std::vector<std::vector<double>>& goals,
+                           const core::PlanOptions& options) override;
+  double do_time() const override;
+  double do_control_period() const override { return period_; }
+  void do_command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
+                  const std::vector<double>& velocities,
+                  const std::vector<double>& accelerations) override;
+  core::StepReport do_advance() override;
+  std::vector<core::Collision> do_collisions(
       const std::vector<std::string>& chain_names) const override;
-  void attach(const std::string& object, const std::string& side) override;
-  void detach(const std::string& object) override;
-  std::vector<std::string> attached_objects() const override;
-  std::string holder_of(const std::string& object) const override;
-  core::CameraInfo head_camera() const override;
-  core::DepthScan scan_depth() override;
-  std::vector<std::string> touching(const std::string& part) const override;
+  void do_attach(const std::string& object, const std::string& side) override;
+  void do_detach(const std::string& object) override;
+  std::vector<std::string> do_attached_objects() const override;
+  std::string do_holder_of(const std::string& object) const override;
+  core::CameraInfo do_head_camera() const override;
+  core::DepthScan do_scan_depth() override;
+  std::vector<std::string> do_touching(const std::string& part) const override;
+  void do_begin_recording(double frame_period_s) override;
+  void do_record_state() override { record_frame(); }
 
  private:
   // Joint ids of the chains, in order; throws std::invalid_argument for an unknown chain.
   std::vector<int> joints_of(const std::vector<std::string>& chain_names) const;
-  // joints_of for planning calls: an unknown chain becomes an invalid_input result.
-  std::optional<core::PlanResult> plan_joints(const std::vector<std::string>& chain_names,
-                                              std::vector<int>& joints) const;
-  // The geoms of options.may_touch; an unknown name becomes an invalid_input result.
-  std::optional<core::PlanResult> touch_geoms(const core::PlanOptions& options,
-                                              std::vector<int>& geoms) const;
-  // Throws std::invalid_argument unless `values` fits the chains and is finite.
-  void check_values(const std::vector<std::string>& chain_names, const std::vector<int>& joints,
-                    const std::vector<double>& values, const char* what) const;
-  bool within_limits(const std::vector<int>& joints, const std::vector<double>& values) const;
   void sync_query();
   // Debris under held tool tips (WorldScript), removed and recorded.
   void collect_debris();
-  core::PlanResult plan_to_poses_unrecorded(const std::vector<std::string>& chain_names,
-                                            const std::string& frame,
-                                            const std::vector<core::Pose>& targets,
-                                            const core::PlanOptions& options,
-                                            const core::IkOptions& ik);
-  core::PlanResult plan_to_region_unrecorded(const std::vector<std::string>& chain_names,
-                                             const core::GoalRegion& region,
-                                             const core::PlanOptions& options);
-  core::PlanResult note_plan(const char* kind, core::PlanResult result);
   // One control period of each execution mode.
   void step_physics();
   void step_kinematic();
@@ -201,7 +175,7 @@ class MujocoSkillset final : public core::Skillset {
   // Kinematic mode: holds back finger motions that would sink into what the fingers touch.
   // `before`: the robot's qpos before the period's commands were set. True if any was held.
   bool stop_fingers_at_contact(const std::vector<double>& before);
-  // After each control period: the executed motion's measures and the state recording.
+  // After each control period: the executed motion's measures.
   void monitor_period();
   void record_frame();
   // Throws std::logic_error when called from inside a query (a goal sampler's callback).
@@ -244,9 +218,7 @@ class MujocoSkillset final : public core::Skillset {
   double period_start_ = 0;
   std::unique_ptr<HeadSensor> sensor_;  // made on the first scan_depth()
   // Monitoring.
-  WorkRecord work_;
   StateRecording recording_;
-  int record_every_ = 0;     // control periods per recorded frame; 0: not recording
   int clearance_every_ = 0;  // control periods per clearance sample; 0: never
   double clearance_cap_m_ = 0.25;
   std::vector<int> ee_sites_, ee_bodies_;                   // end effector frames of the chains
