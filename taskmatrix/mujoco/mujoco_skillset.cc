@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "taskmatrix/core/joint_limits.h"
 #include "taskmatrix/mujoco/body_kinematics.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 #include "taskmatrix/mujoco/kinematics.h"
@@ -13,11 +14,6 @@
 namespace taskmatrix::mujoco {
 
 namespace {
-
-constexpr double kLimitSlack = 1e-9;
-// A command this far past a limit is rounding (of arithmetic on the limit's value) and is
-// clamped to it; further is an error of the caller.
-constexpr double kCommandTolerance = 1e-6;
 
 std::string body_name(const mjModel* m, int body) {
   const char* name = mj_id2name(m, mjOBJ_BODY, body);
@@ -432,8 +428,8 @@ bool MujocoSkillset::within_limits(const std::vector<int>& joints,
                                    const std::vector<double>& values) const {
   const mjModel* m = worker_.model();
   for (size_t i = 0; i < joints.size(); ++i) {
-    if (values[i] < m->jnt_range[2 * joints[i]] - kLimitSlack ||
-        values[i] > m->jnt_range[2 * joints[i] + 1] + kLimitSlack) {
+    if (values[i] < m->jnt_range[2 * joints[i]] - core::kLimitRounding ||
+        values[i] > m->jnt_range[2 * joints[i] + 1] + core::kLimitRounding) {
       return false;
     }
   }
@@ -754,7 +750,8 @@ void MujocoSkillset::command(const std::vector<std::string>& chain_names,
   const mjModel* m = worker_.model();
   for (size_t i = 0; i < joints.size(); ++i) {
     const double lo = m->jnt_range[2 * joints[i]], hi = m->jnt_range[2 * joints[i] + 1];
-    if (positions[i] < lo - kCommandTolerance || positions[i] > hi + kCommandTolerance) {
+    if (positions[i] < lo - core::kCommandClampTolerance ||
+        positions[i] > hi + core::kCommandClampTolerance) {
       char buf[200];
       std::snprintf(buf, sizeof buf,
                     "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]", positions[i],
