@@ -31,7 +31,7 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
 // A trial that produced no result (crash, timeout): identity, status and reason; the
 // measurements are null.
 nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
-                                 const std::string& status, const std::string& reason);
+                                 const core::Failure& failure);
 
 // The clock bounds that decided a trial, so that its result may differ on a rerun under other
 // load: "plan_time_limit" (a planner stopped by the clock), "simplify_time_limit", "wall_limit"
