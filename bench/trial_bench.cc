@@ -53,8 +53,9 @@ Fixture& fixture() {
 // The exact counters of one trial, as text: compared between iterations and repetitions.
 std::string exact_counters(const harness::TrialResult& r) {
   std::ostringstream out;
-  out << "success " << r.success << " (" << r.status << "), plan_calls " << r.work.plans.size()
-      << ", collision_checks " << r.work.collision_checks << ", ik_calls " << r.work.ik_calls;
+  out << "success " << r.success << " (" << harness::trial_status(r) << "), plan_calls "
+      << r.work.plans.size() << ", collision_checks " << r.work.collision_checks << ", ik_calls "
+      << r.work.ik_calls;
   return out.str();
 }
 

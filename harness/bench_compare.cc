@@ -143,12 +143,6 @@ bool is_builtin_field(const std::string& key) {
   return std::find(std::begin(kFields), std::end(kFields), key) != std::end(kFields);
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 std::string format_time(double ns) {
   const char* unit = "ns";
   double v = ns;
@@ -344,9 +338,9 @@ BenchFile read_bench_file(const std::filesystem::path& path) {
           }
         }
       }
-      e.real_time_ns = median(times);
+      e.real_time_ns = quantile(times, 0.5);
       for (const auto& [key, values] : counters) {
-        if (values.size() == chosen.size()) e.counters[key] = median(values);
+        if (values.size() == chosen.size()) e.counters[key] = quantile(values, 0.5);
       }
       // The spread of the real time: the cv aggregate, else stddev over mean (or median).
       if (agg != aggregates.end()) {

@@ -12,12 +12,11 @@
 #include "harness/paired_stats.h"
 #include "harness/report_table.h"
 #include "harness/trial_record.h"
+#include "harness/trial_schema.h"
 
 namespace taskmatrix::harness {
 
 namespace {
-
-const char* const kWorkFields[] = {"collision_checks", "plan_calls", "planner_runs", "ik_calls"};
 
 std::string text(const nlohmann::json& t, const char* key) {
   const auto it = t.find(key);
@@ -59,7 +58,8 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
   g.pairs = static_cast<int>(pairs.size());
   std::vector<double> log_ratios;
   std::map<std::string, WorkCountChange> work;
-  for (const char* f : kWorkFields) work[f].field = f;
+  const std::vector<std::string> work_fields = exact_work_fields();
+  for (const std::string& f : work_fields) work[f].field = f;
   for (const Pair& p : pairs) {
     const bool b = p.base->value("success", false), n = p.fresh->value("success", false);
     g.base_successes += b;
@@ -78,8 +78,8 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
       ++g.path_pairs;
       g.changed_paths += db != dn;
     }
-    for (const char* f : kWorkFields) {
-      const double wb = number(*p.base, f), wn = number(*p.fresh, f);
+    for (const std::string& f : work_fields) {
+      const double wb = number(*p.base, f.c_str()), wn = number(*p.fresh, f.c_str());
       WorkCountChange& w = work[f];
       if (!std::isfinite(wb) || !std::isfinite(wn)) {
         ++w.missing;
@@ -102,7 +102,7 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
     g.time_ratio_high = std::exp(m.high);
     g.wilcoxon_p = wilcoxon_signed_rank_p(log_ratios);
   }
-  for (const char* f : kWorkFields) g.work.push_back(work[f]);
+  for (const std::string& f : work_fields) g.work.push_back(work[f]);
 }
 
 // Whether more time and checks of the new run are its planner's design (an anytime planner
@@ -148,7 +148,7 @@ void judge(PairedGroup& g, const CompareThresholds& t, const BudgetJudgement& bu
     for (const WorkCountChange& w : g.work) {
       if (w.changed_trials > 0) {
         g.regressions.push_back(
-            printf_string("%.0f trials changed ", w.changed_trials) + w.field +
+            trials_changed(w.changed_trials) + " " + w.field +
             printf_string(" (%.0f -> %.0f; exact counts required)", w.base_total, w.new_total));
       }
     }
@@ -165,15 +165,15 @@ void judge(PairedGroup& g, const CompareThresholds& t, const BudgetJudgement& bu
     if (w.field != "collision_checks") continue;
     if (w.base_total <= 0) {
       if (w.new_total > 0) {
-        costlier.push_back(printf_string("collision checks 0 -> %.0f (%.0f trials changed)",
-                                         w.new_total, w.changed_trials));
+        costlier.push_back(printf_string("collision checks 0 -> %.0f (", w.new_total) +
+                           trials_changed(w.changed_trials) + ")");
       }
       continue;
     }
     const double ratio = w.new_total / w.base_total;
     const std::string work =
-        printf_string("collision checks x%.2f (%.0f -> %.0f; %.0f trials changed)", ratio,
-                      w.base_total, w.new_total, w.changed_trials);
+        printf_string("collision checks x%.2f (%.0f -> %.0f; ", ratio, w.base_total, w.new_total) +
+        trials_changed(w.changed_trials) + ")";
     if (ratio > t.max_work_ratio) costlier.push_back(work);
     if (ratio < 1.0 / t.max_work_ratio) g.improvements.push_back(work);
   }
@@ -291,6 +291,10 @@ std::string no_change_text(const PairedGroup& g, const CompareThresholds& t) {
 std::string p_value_text(double p) {
   if (!std::isfinite(p)) return "-";
   return p < 0.001 ? std::string("<0.001") : format_number("%.3f", p);
+}
+
+std::string trials_changed(double n) {
+  return printf_string(n == 1 ? "%.0f trial changed" : "%.0f trials changed", n);
 }
 
 std::string p_value_phrase(double p) {
@@ -411,10 +415,6 @@ Comparison compare_trials(const std::vector<nlohmann::json>& base,
 
 namespace {
 
-nlohmann::json finite_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 nlohmann::json group_json(const PairedGroup& g) {
   nlohmann::json j;
   j["scenario"] = g.scenario;
@@ -433,9 +433,9 @@ nlohmann::json group_json(const PairedGroup& g) {
                   {"mcnemar_p", g.mcnemar_p}};
   j["planning_time"] = {
       {"pairs", g.time_pairs},
-      {"ratio", finite_or_null(g.time_ratio)},
-      {"ratio_ci95", {finite_or_null(g.time_ratio_low), finite_or_null(g.time_ratio_high)}},
-      {"wilcoxon_p", finite_or_null(g.wilcoxon_p)}};
+      {"ratio", number_or_null(g.time_ratio)},
+      {"ratio_ci95", {number_or_null(g.time_ratio_low), number_or_null(g.time_ratio_high)}},
+      {"wilcoxon_p", number_or_null(g.wilcoxon_p)}};
   nlohmann::json work = nlohmann::json::object();
   for (const WorkCountChange& w : g.work) {
     work[w.field] = {{"base", w.base_total},
@@ -579,8 +579,8 @@ std::string comparison_markdown(const Comparison& c) {
   }
   for (const WorkCountChange& w : o.work) {
     md += "| " + w.field + printf_string(" | %.0f | %.0f |", w.base_total, w.new_total) +
-          (w.base_total > 0 ? printf_string(" x%.3f;", w.new_total / w.base_total) : "") +
-          printf_string(" %.0f trials changed", w.changed_trials) +
+          (w.base_total > 0 ? printf_string(" x%.3f;", w.new_total / w.base_total) : "") + " " +
+          trials_changed(w.changed_trials) +
           (w.missing > 0 ? printf_string("; %.0f pairs without it", w.missing) : "") + " |\n";
   }
   md += "\nOverall: " + verdict(o, t) + "\n\n## Per group\n\n";

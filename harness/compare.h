@@ -65,7 +65,7 @@ struct PlannerBudgets {
 };
 
 struct WorkCountChange {
-  std::string field;                     // collision_checks, plan_calls, planner_runs, ik_calls
+  std::string field;                     // an exact work count of harness/trial_schema.h
   double base_total = 0, new_total = 0;  // over pairs where both trials have the count
   int changed_trials = 0;                // pairs whose counts differ
   int missing = 0;  // pairs where either lacks it (null: a crash or kill), left out of totals
@@ -147,6 +147,8 @@ nlohmann::json comparison_json(const Comparison& c);
 // "< 0.001".
 std::string p_value_text(double p);
 std::string p_value_phrase(double p);
+// "1 trial changed", "3 trials changed".
+std::string trials_changed(double n);
 std::string comparison_markdown(const Comparison& c);
 
 // How a by-design change is introduced in verdicts.

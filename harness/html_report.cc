@@ -107,7 +107,7 @@ std::string overall_table(const Comparison& c, const std::string& base_name,
     s += "<tr><td>" + w.field + " (total)</td>" + td(fmt("%.0f", w.base_total)) +
          td(fmt("%.0f", w.new_total)) +
          td((w.base_total > 0 ? "&times;" + fmt("%.3f", w.new_total / w.base_total) + "; " : "") +
-            std::to_string(w.changed_trials) + " trials changed") +
+            trials_changed(w.changed_trials)) +
          "</tr>";
   }
   return s + "</table><p>Overall: " + verdict_text(o, c.thresholds) + "</p>";

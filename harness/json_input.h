@@ -39,4 +39,7 @@ const nlohmann::json& json_optional_field(const nlohmann::json& object, const ch
 // dump() that never throws on text that is not UTF-8 (it is replaced).
 std::string json_text(const nlohmann::json& value, int indent = -1);
 
+// A measured value as written: the number, or null when it is not finite (unmeasured).
+nlohmann::json number_or_null(double v);
+
 }  // namespace taskmatrix::harness

@@ -18,6 +18,7 @@
 #include "harness/trial_matrix.h"
 #include "harness/trial_record.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/motion_planning.h"
 
 namespace taskmatrix::harness {
 
@@ -349,8 +350,7 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
                           {"duplicated", result.duplicated.size()},
                           {"interrupted", interrupted}};
   provenance["shards"] = shard_list;
-  const double merge_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  const double merge_s = core::seconds_since(t_start);
   provenance["merge"] = {{"host", host_name()},
                          {"started_at", merge_started},
                          {"finished_at", utc_now_iso()},

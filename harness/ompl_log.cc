@@ -7,6 +7,8 @@
 
 #include "harness/provenance.h"
 #include "harness/summary.h"
+#include "harness/trial_schema.h"
+#include "taskmatrix/core/failure.h"
 
 namespace taskmatrix::harness {
 
@@ -72,51 +74,45 @@ struct Enum {
 
 }  // namespace
 
-std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> trials) {
+std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> trials,
+                          std::span<const TrialField> fields) {
   std::sort(trials.begin(), trials.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
     return a.value("trial_id", std::string()) < b.value("trial_id", std::string());
   });
-  // Enumerations over what the trials hold. The trial status is named apart from OMPL's own
-  // planner "status" enum, which a database may already hold.
-  std::vector<Enum> enums = {
-      {"trial_status", {}}, {"scenario", {}}, {"program", {}}, {"robot", {}}, {"environment", {}}};
+  // Enumerations over what the trials hold, one per ENUM property, named after it ("trial
+  // status": "trial_status", apart from OMPL's own planner "status" enum, which a database may
+  // already hold).
+  std::vector<Enum> enums;
+  std::vector<std::string> enum_keys;  // the trial field of each
+  for (const TrialField& f : fields) {
+    if (f.ompl_type != OmplType::kEnum) continue;
+    std::string name(f.ompl_property);
+    std::replace(name.begin(), name.end(), ' ', '_');
+    enums.push_back({name, {}});
+    enum_keys.emplace_back(f.name);
+  }
   for (const nlohmann::json& t : trials) {
-    for (Enum& e : enums) {
-      const std::string key = e.name == "trial_status" ? "status" : e.name;
-      const std::string v = one_token(t.value(key, std::string("unknown")));
-      if (std::find(e.values.begin(), e.values.end(), v) == e.values.end()) e.values.push_back(v);
+    for (size_t k = 0; k < enums.size(); ++k) {
+      std::vector<std::string>& values = enums[k].values;
+      const std::string v = one_token(t.value(enum_keys[k], std::string("unknown")));
+      if (std::find(values.begin(), values.end(), v) == values.end()) values.push_back(v);
     }
   }
   for (Enum& e : enums) std::sort(e.values.begin(), e.values.end());
-  // Trial statuses start with a fixed list, so that logs of different runs agree on the
-  // indices of every status they share with it (a database keeps the first log's enum).
-  static const std::vector<std::string> kKnownStatuses = {"success",
-                                                          "crash",
-                                                          "timeout",
-                                                          "sim_unstable",
-                                                          "setup_failed",
-                                                          "time_limit",
-                                                          "criterion_false",
-                                                          "planning_timeout",
-                                                          "ik_failure",
-                                                          "collision",
-                                                          "grasp_failed",
-                                                          "invalid_start",
-                                                          "invalid_goal",
-                                                          "invalid_input",
-                                                          "precondition_false",
-                                                          "invariant_false",
-                                                          "no_transition",
-                                                          "perception_miss",
-                                                          "not_graspable",
-                                                          "coverage_short",
-                                                          "chains_busy",
-                                                          "approximate_solution"};
-  std::vector<std::string> statuses = kKnownStatuses;
-  for (const std::string& v : enums[0].values) {
-    if (std::find(statuses.begin(), statuses.end(), v) == statuses.end()) statuses.push_back(v);
+  // Trial statuses start with a fixed list, "success" and every failure code in the order of
+  // core::FailureCode (new codes are added at its end), so that logs of different runs agree on
+  // the indices of every status they share with it (a database keeps the first log's enum).
+  for (size_t k = 0; k < enums.size(); ++k) {
+    if (enum_keys[k] != "status") continue;
+    std::vector<std::string> statuses = {"success"};
+    for (core::FailureCode code : core::all_failure_codes()) {
+      statuses.push_back(core::to_string(code));
+    }
+    for (const std::string& v : enums[k].values) {
+      if (std::find(statuses.begin(), statuses.end(), v) == statuses.end()) statuses.push_back(v);
+    }
+    enums[k].values = statuses;
   }
-  enums[0].values = statuses;
   std::map<std::string, std::vector<const nlohmann::json*>> by_planner;
   for (const nlohmann::json& t : trials) by_planner[t.value("planner", "")].push_back(&t);
 
@@ -140,28 +136,10 @@ std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> t
     for (const std::string& v : e.values) out += "|" + v;
     out += "\n";
   }
-  static const std::vector<std::pair<const char*, const char*>> properties = {
-      {"time REAL", "planning_time_s"},
-      {"simplification time REAL", "simplification_time_s"},
-      {"solved BOOLEAN", "success"},
-      {"trial status ENUM", "status"},
-      {"scenario ENUM", "scenario"},
-      {"program ENUM", "program"},
-      {"robot ENUM", "robot"},
-      {"environment ENUM", "environment"},
-      {"layout seed INTEGER", "layout_seed"},
-      {"seed INTEGER", "seed"},
-      {"plan calls INTEGER", "plan_calls"},
-      {"collision checks INTEGER", "collision_checks"},
-      {"ik time REAL", "ik_time_s"},
-      {"path length joint REAL", "path_length_joint"},
-      {"path length ee REAL", "path_length_ee_m"},
-      {"duration REAL", "duration_s"},
-      {"smoothness REAL", "smoothness"},
-      {"min clearance REAL", "min_clearance_m"},
-      {"wall time REAL", "wall_time_s"},
-      {"memory REAL", "peak_memory_mb"},
-  };
+  std::vector<TrialField> properties;
+  for (const TrialField& f : fields) {
+    if (f.ompl_type != OmplType::kNone) properties.push_back(f);
+  }
   std::vector<const OmplLogInfo::Planner*> planners;
   for (const OmplLogInfo::Planner& p : info.planners) {
     if (by_planner.count(p.label)) planners.push_back(&p);
@@ -173,22 +151,23 @@ std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> t
     out += "planner STRING = " + one_token(p->name) + "\n";
     for (const auto& [k, v] : p->params) out += one_token(k) + " STRING = " + one_token(v) + "\n";
     out += std::to_string(properties.size()) + " properties for each run\n";
-    for (const auto& [decl, key] : properties) out += std::string(decl) + "\n";
+    for (const TrialField& f : properties) {
+      out += std::string(f.ompl_property) + " " + to_string(f.ompl_type) + "\n";
+    }
     const auto& list = by_planner.at(p->label);
     out += std::to_string(list.size()) + " runs\n";
     for (const nlohmann::json* t : list) {
-      for (const auto& [decl, key] : properties) {
-        const std::string d(decl);
+      for (const TrialField& f : properties) {
+        const std::string key(f.name);
         const nlohmann::json& v = t->contains(key) ? (*t)[key] : nlohmann::json(nullptr);
-        if (d.find(" ENUM") != std::string::npos) {
-          const std::string enum_name = std::string(key) == "status" ? "trial_status" : key;
-          const Enum& e = *std::find_if(enums.begin(), enums.end(),
-                                        [&](const Enum& x) { return x.name == enum_name; });
-          out +=
-              std::to_string(e.index(one_token(v.is_string() ? v.get<std::string>() : "unknown")));
-        } else if (d.find(" BOOLEAN") != std::string::npos) {
+        if (f.ompl_type == OmplType::kEnum) {
+          const size_t e = static_cast<size_t>(std::find(enum_keys.begin(), enum_keys.end(), key) -
+                                               enum_keys.begin());
+          const std::string value = one_token(v.is_string() ? v.get<std::string>() : "unknown");
+          out += std::to_string(enums[e].index(value));
+        } else if (f.ompl_type == OmplType::kBoolean) {
           out += v.is_boolean() && v.get<bool>() ? "1" : "0";
-        } else if (d.find(" INTEGER") != std::string::npos) {
+        } else if (f.ompl_type == OmplType::kInteger) {
           out += integer(v);
         } else {
           out += real(v);

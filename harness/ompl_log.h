@@ -11,10 +11,13 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "harness/trial_schema.h"
 
 namespace taskmatrix::harness {
 
@@ -35,6 +38,8 @@ struct OmplLogInfo {
   std::vector<Planner> planners;
 };
 
-std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> trials);
+// `fields`: the trial fields whose OMPL type is not kNone are the runs' properties.
+std::string ompl_log_text(const OmplLogInfo& info, std::vector<nlohmann::json> trials,
+                          std::span<const TrialField> fields = kTrialFields);
 
 }  // namespace taskmatrix::harness

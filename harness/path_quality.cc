@@ -3,6 +3,7 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 
+#include "harness/json_input.h"
 #include "harness/paired_stats.h"
 #include "harness/summary.h"
 
@@ -102,18 +103,17 @@ std::vector<PathQualityChange> compare_path_quality(const std::vector<TrialPair>
 }
 
 nlohmann::json path_quality_json(const std::vector<PathQualityChange>& changes) {
-  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
   nlohmann::json j = nlohmann::json::object();
   for (const PathQualityChange& c : changes) {
     j[c.field] = {{"pairs", c.pairs},
                   {"lower_is_better", c.lower_is_better},
-                  {"base_median", num(c.base_median)},
-                  {"new_median", num(c.new_median)},
-                  {"base_mean", num(c.base_mean)},
-                  {"mean_change", num(c.mean_change)},
-                  {"change_ci95", {num(c.change_low), num(c.change_high)}},
-                  {"percent_change", num(c.percent())},
-                  {"wilcoxon_p", num(c.wilcoxon_p)},
+                  {"base_median", number_or_null(c.base_median)},
+                  {"new_median", number_or_null(c.new_median)},
+                  {"base_mean", number_or_null(c.base_mean)},
+                  {"mean_change", number_or_null(c.mean_change)},
+                  {"change_ci95", {number_or_null(c.change_low), number_or_null(c.change_high)}},
+                  {"percent_change", number_or_null(c.percent())},
+                  {"wilcoxon_p", number_or_null(c.wilcoxon_p)},
                   {"significant", c.significant()}};
   }
   return j;

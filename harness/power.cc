@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "harness/json_input.h"
 #include "harness/report_table.h"
 #include "harness/summary.h"
 
@@ -192,10 +193,6 @@ GroupPower group_power(int pairs, int base_successes, const std::vector<double>&
 
 namespace {
 
-nlohmann::json finite_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 nlohmann::json count_or_null(int n) { return n < 0 ? nlohmann::json(nullptr) : nlohmann::json(n); }
 
 }  // namespace
@@ -205,11 +202,11 @@ nlohmann::json group_power_json(const GroupPower& p) {
           {"power", kTargetPower},
           {"pairs", p.pairs},
           {"base_rate", p.base_rate},
-          {"detectable_success_change", finite_or_null(p.success_change)},
+          {"detectable_success_change", number_or_null(p.success_change)},
           {"success_change_is_rise", p.success_rise},
           {"time_pairs", p.time_pairs},
-          {"log_ratio_sd", finite_or_null(p.log_ratio_sd)},
-          {"detectable_time_ratio", finite_or_null(p.time_ratio)},
+          {"log_ratio_sd", number_or_null(p.log_ratio_sd)},
+          {"detectable_time_ratio", number_or_null(p.time_ratio)},
           {"success_target", p.success_target},
           {"pairs_for_success_target", count_or_null(p.pairs_for_success_target)},
           {"time_target", p.time_target},
@@ -247,7 +244,7 @@ nlohmann::json summary_power_row(const nlohmann::json& group, double target) {
   const GroupPower p = group_power(n, s, {}, 1, kAlpha, target, 1.25);
   return {{"trials", n},
           {"successes", s},
-          {"detectable_success_change", finite_or_null(p.success_change)},
+          {"detectable_success_change", number_or_null(p.success_change)},
           {"success_change_is_rise", p.success_rise},
           {"trials_for_target", count_or_null(p.pairs_for_success_target)}};
 }

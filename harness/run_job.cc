@@ -25,6 +25,7 @@
 #include "harness/trial_record.h"
 #include "harness/worker_pool.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/io/text_file.h"
 #include "taskmatrix/mujoco/scene.h"
 
@@ -374,10 +375,11 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     if (o.has_result) {
       j = nlohmann::json::parse(o.payload, nullptr, false);
       if (j.is_discarded()) {
-        j = failed_trial_json(plan, t, "crash", "crash: the worker's result is not JSON");
+        j = failed_trial_json(
+            plan, t, core::Failure(core::FailureCode::kCrash, "the worker's result is not JSON"));
       }
     } else {
-      j = failed_trial_json(plan, t, o.status, o.reason);
+      j = failed_trial_json(plan, t, o.failure);
       j["layout"] = layout_json(p.layouts.at(t.id));
     }
     j["wall_time_s"] = o.wall_s;
@@ -395,7 +397,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     finished.push_back(std::move(j));
     ++ran;
     if (progress) {
-      const double elapsed = std::chrono::duration<double>(Clock::now() - t_trials).count();
+      const double elapsed = core::seconds_since(t_trials);
       const double eta =
           elapsed / ran * static_cast<double>(pending.size() - static_cast<size_t>(ran));
       char buf[200];
@@ -420,7 +422,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   result.ran = ran;
   result.finished = static_cast<int>(finished.size());
   result.successes = successes;
-  const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
+  const double wall = core::seconds_since(t_start);
   if (write_dir) {
     provenance["finished_at"] = utc_now_iso();
     provenance["wall_s"] = wall;

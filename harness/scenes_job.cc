@@ -4,16 +4,13 @@
 #include <cstdio>
 #include <string>
 
+#include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/mujoco/scene.h"
 
 namespace taskmatrix::harness {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 std::string fixed(double v, int digits) {
   char buf[64];
@@ -35,7 +32,7 @@ int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
     for (const std::string& env : catalog.environments()) {
       const auto t_load = std::chrono::steady_clock::now();
       auto scene = mujoco::Scene::load(catalog.robot_dir(robot), catalog.environment_dir(env));
-      const double load_ms = seconds_since(t_load) * 1e3;
+      const double load_ms = core::seconds_since(t_load) * 1e3;
       mujoco::WorkerScene worker(scene);
       mujoco::OffscreenRenderer renderer(scene->model(), options.width, options.height);
       CameraView overview;
@@ -50,7 +47,7 @@ int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
         const core::ObstacleLayout layout = scene->make_layout(options.obstacles, seed);
         worker.apply_layout(layout);
         worker.reset_to_start();
-        const double layout_us = seconds_since(t_layout) * 1e6;
+        const double layout_us = core::seconds_since(t_layout) * 1e6;
         const auto contacts = worker.robot_contacts();
         if (!contacts.empty()) ++scenes_with_contacts;
 
@@ -72,7 +69,7 @@ int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
   }
   out << "\n"
       << images << " images in " << options.out.string() << ", "
-      << fixed(seconds_since(job_start), 1)
+      << fixed(core::seconds_since(job_start), 1)
       << " s; scenes with robot contacts at rest: " << scenes_with_contacts << "\n";
   return scenes_with_contacts;
 }

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "harness/json_input.h"
+#include "harness/trial_schema.h"
 #include "taskmatrix/core/utf8.h"
 #include "taskmatrix/io/text_file.h"
 
@@ -90,10 +91,6 @@ std::string markdown_text(const std::string& text) { return markdown(text, true)
 
 namespace {
 
-nlohmann::json number_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 std::vector<double> field(const std::vector<const nlohmann::json*>& trials, const char* key) {
   std::vector<double> out;
   for (const nlohmann::json* t : trials) {
@@ -103,7 +100,8 @@ std::vector<double> field(const std::vector<const nlohmann::json*>& trials, cons
   return out;
 }
 
-nlohmann::json group_stats(const std::vector<const nlohmann::json*>& trials) {
+nlohmann::json group_stats(const std::vector<const nlohmann::json*>& trials,
+                           std::span<const TrialField> fields) {
   nlohmann::json g;
   int successes = 0;
   std::map<std::string, int> statuses;
@@ -118,14 +116,16 @@ nlohmann::json group_stats(const std::vector<const nlohmann::json*>& trials) {
   g["success_rate"] = n > 0 ? static_cast<double>(successes) / n : 0.0;
   g["success_ci95"] = {ci.low, ci.high};
   g["statuses"] = statuses;
-  const std::vector<double> planning = field(trials, "planning_time_s");
-  g["planning_time_s"] = {{"median", number_or_null(quantile(planning, 0.5))},
-                          {"p90", number_or_null(quantile(planning, 0.9))},
-                          {"n", planning.size()}};
-  for (const char* key : {"simplification_time_s", "plan_calls", "collision_checks",
-                          "path_length_joint", "path_length_ee_m", "duration_s", "smoothness",
-                          "min_clearance_m", "wall_time_s", "peak_memory_mb"}) {
-    g[std::string(key)] = {{"median", number_or_null(quantile(field(trials, key), 0.5))}};
+  for (const TrialField& f : fields) {
+    if (f.summary == FieldSummary::kNone) continue;
+    const std::string key(f.name);
+    const std::vector<double> values = field(trials, key.c_str());
+    nlohmann::json& stats = g[key];
+    stats["median"] = number_or_null(quantile(values, 0.5));
+    if (f.summary == FieldSummary::kMedianP90) {
+      stats["p90"] = number_or_null(quantile(values, 0.9));
+      stats["n"] = values.size();
+    }
   }
   return g;
 }
@@ -136,7 +136,8 @@ std::string fmt(const nlohmann::json& v, const char* format) {
 
 }  // namespace
 
-nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials) {
+nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials,
+                            std::span<const TrialField> fields) {
   std::sort(trials.begin(), trials.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
     return a.value("trial_id", std::string()) < b.value("trial_id", std::string());
   });
@@ -160,13 +161,13 @@ nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> tria
               {"interrupted", run.interrupted},
               {"jobs", run.jobs},
               {"wall_s", run.wall_s}};
-  s["overall"] = group_stats(all);
+  s["overall"] = group_stats(all, fields);
   nlohmann::json planners = nlohmann::json::object();
-  for (const auto& [name, list] : by_planner) planners[name] = group_stats(list);
+  for (const auto& [name, list] : by_planner) planners[name] = group_stats(list, fields);
   s["planners"] = planners;
   nlohmann::json out = nlohmann::json::array();
   for (const auto& [key, list] : groups) {
-    nlohmann::json g = group_stats(list);
+    nlohmann::json g = group_stats(list, fields);
     g["scenario"] = std::get<0>(key);
     g["program"] = std::get<1>(key);
     g["robot"] = std::get<2>(key);

@@ -7,11 +7,14 @@
 
 #include <filesystem>
 #include <map>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "harness/trial_schema.h"
 
 namespace taskmatrix::harness {
 
@@ -43,7 +46,9 @@ struct RunInfo {
   int jobs = 1;
 };
 
-nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials);
+// `fields`: the trial fields summarised per group (TrialField::summary).
+nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials,
+                            std::span<const TrialField> fields = kTrialFields);
 std::string summary_markdown(const nlohmann::json& summary);
 // Writes summary.json and summary.md (with `appendix` after the table) into `dir`, each
 // atomically.

@@ -5,6 +5,7 @@
 
 #include "taskmatrix/core/conditions.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 
@@ -16,35 +17,34 @@ namespace {
 // in the trial's events (the failed message).
 constexpr size_t kMaxReasonChars = 600;
 
-std::string bounded(std::string reason) {
-  if (reason.size() <= kMaxReasonChars) return reason;
-  reason.resize(kMaxReasonChars);
-  return reason + " ... (the whole reason is in the trial's events)";
-}
-
-// Runs one program to its end or the limit; "" on completion, else the failure as a user
-// reads it (core::failure_text: the path through nested machines, then the reason). An
-// exception that escapes the executive (the world's, not a program's) fails the program too.
-std::string run_program(core::Executive& executive, const ProgramCall& call, double limit_s) {
+// Runs one program to its end or the limit; nullopt on completion, else its failure (with
+// the path through nested machines beginning with the program). An exception that escapes
+// the executive (the world's, not a program's) fails the program too.
+std::optional<core::Failure> run_program(core::Executive& executive, const ProgramCall& call,
+                                         double limit_s) {
   int id = -1;
   try {
     id = executive.start(call.program, call.params);
   } catch (const std::invalid_argument& e) {
-    return std::string("invalid_input: ") + e.what();
+    return core::Failure(core::FailureCode::kInvalidInput, e.what());
   }
   try {
     executive.run(limit_s);
   } catch (const std::exception& e) {
-    return "program_error: " + call.program + ": " + e.what();
+    return core::Failure(core::FailureCode::kProgramError, call.program + ": " + e.what());
   }
   const core::Message* outcome = executive.outcome(id);
   if (!outcome) {
     executive.halt(id);
-    return "time_limit: " + call.program + " still running after " + std::to_string(limit_s) + " s";
+    return core::Failure(core::FailureCode::kTimeLimit,
+                         call.program + " still running after " + std::to_string(limit_s) + " s");
   }
-  if (outcome->type == core::MessageType::kCompleted) return "";
-  if (outcome->reason.empty()) return call.program + " " + core::to_string(outcome->type);
-  return core::failure_text(call.program, *outcome);
+  if (outcome->type == core::MessageType::kCompleted) return std::nullopt;
+  if (!outcome->failure) {
+    return core::Failure(core::FailureCode::kProgramError,
+                         call.program + " " + core::to_string(outcome->type));
+  }
+  return core::reported_by(call.program, *outcome->failure);
 }
 
 }  // namespace
@@ -133,10 +133,9 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
   if (planner) options.plan.planner = planner->spec;
   core::Executive executive(skills, registry, perception.get(), options);
 
-  auto finish = [&](const std::string& reason) {
-    result.success = reason.empty();
-    result.status = reason.empty() ? "success" : core::failure_status(reason);
-    result.failure_reason = bounded(reason);
+  auto finish = [&](std::optional<core::Failure> failure) {
+    result.success = !failure;
+    result.failure = std::move(failure);
     result.log = executive.log();
     result.series = executive.series();
     for (const core::Message& m : result.log) {
@@ -149,8 +148,8 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
              std::string(core::to_string(m.plan->status)) + ": " + m.plan->detail, ""});
         continue;
       }
-      result.events.push_back(
-          {m.time, m.sender, m.program, core::to_string(m.type), m.reason, m.path});
+      result.events.push_back({m.time, m.sender, m.program, core::to_string(m.type), m.reason(),
+                               m.failure ? m.failure->path : ""});
     }
     result.work = skills.work();
     result.sim_time_s = skills.time();
@@ -159,31 +158,30 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
     }
     if (trial_options.record_rate_hz > 0) result.recording = skills.recording();
     if (observe) observe("end", skills);
-    result.trial_wall_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.trial_wall_s = core::seconds_since(t0);
     return result;
   };
   // Wall time inside the executive (programs, planning, IK, simulation); the rest of the
   // trial is the harness's own overhead.
   auto timed_run = [&](const ProgramCall& call) {
     const auto t = std::chrono::steady_clock::now();
-    std::string failed = run_program(executive, call, scenario.time_limit_s);
-    result.executive_wall_s +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    std::optional<core::Failure> failed = run_program(executive, call, scenario.time_limit_s);
+    result.executive_wall_s += core::seconds_since(t);
     return failed;
   };
   for (const ProgramCall& step : scenario.setup) {
-    const std::string failed = timed_run(step);
-    if (!failed.empty()) {
-      const bool names_program = failed.rfind(step.program + " > ", 0) == 0;
-      return finish("setup_failed: " + (names_program ? "" : step.program + ": ") + failed);
+    if (const std::optional<core::Failure> failed = timed_run(step)) {
+      // The set-up program's failure as a user reads it, naming the program.
+      const bool names_program = !failed->path.empty();
+      return finish(core::Failure(core::FailureCode::kSetupFailed,
+                                  (names_program ? "" : step.program + ": ") + failed->text()));
     }
   }
   if (observe) observe("setup", skills);
   const double start = skills.time();
-  const std::string failed = timed_run(scenario.run);
+  std::optional<core::Failure> failed = timed_run(scenario.run);
   result.duration_s = skills.time() - start;
-  if (!failed.empty()) return finish(failed);
+  if (failed) return finish(std::move(failed));
   if (!scenario.success.empty()) {
     // Judged on the world: exact perception of the final state.
     core::PerceptualModel truth;
@@ -193,11 +191,24 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
     if (!criterion->holds(world)) {
       const std::string why = criterion->explain(world);
       const bool whole = why.rfind(criterion->describe(), 0) == 0;
-      return finish("criterion_false: " + why +
-                    (whole ? "" : " (success condition " + criterion->describe() + ")"));
+      return finish(
+          core::Failure(core::FailureCode::kCriterionFalse,
+                        why + (whole ? "" : " (success condition " + criterion->describe() + ")")));
     }
   }
-  return finish("");
+  return finish(std::nullopt);
+}
+
+std::string trial_status(const TrialResult& result) {
+  return result.failure ? core::to_string(result.failure->code) : "success";
+}
+
+std::string trial_failure_reason(const TrialResult& result) {
+  if (!result.failure) return "";
+  std::string reason = result.failure->text();
+  if (reason.size() <= kMaxReasonChars) return reason;
+  reason.resize(kMaxReasonChars);
+  return reason + " ... (the whole reason is in the trial's events)";
 }
 
 }  // namespace taskmatrix::harness

@@ -25,18 +25,18 @@ struct TrialEvent {
   std::string program;
   std::string type;
   std::string reason;
-  std::string path;  // of a state machine's failure (core::Message::path)
+  std::string path;  // of a state machine's failure (core::Failure::path)
 };
 
 struct TrialResult {
   bool success = false;
-  // "success", or the failure's status: the reason's prefix after any path through state
-  // machines ("ik_failure", "collision", ...), "setup_failed", "time_limit" (still running at
-  // the limit), "criterion_false" (the program completed but the success condition does not
-  // hold: the reason says which clause and what was measured), "invalid_input",
-  // "program_error" (a program threw; the trial goes on, the worker lives).
-  std::string status;
-  std::string failure_reason;
+  // Why the trial failed (nullopt when it succeeded): the program's failure, its path beginning
+  // with the program when it happened inside state machines ("fetch > pickup(approach) >
+  // reach"); kSetupFailed, kTimeLimit (still running at the limit), kCriterionFalse (the
+  // program completed but the success condition does not hold: the detail says which clause
+  // and what was measured), kInvalidInput, kProgramError (a program threw; the trial goes on,
+  // the worker lives).
+  std::optional<core::Failure> failure;
   double duration_s = 0;    // simulated seconds of the scenario's program
   double sim_time_s = 0;    // simulated seconds of the whole trial, set-up included
   double trial_wall_s = 0;  // wall clock inside run_trial, set-up of the skillset included
@@ -51,6 +51,12 @@ struct TrialResult {
   std::vector<std::string> removed_debris;
   core::TrialLayout layout;  // the drawn world: task variation and obstacles
 };
+
+// The trial record's texts: "success" or the failure's code ("ik_failure"); the failure as a
+// user reads it ("fetch > pickup(approach) > reach: ik_failure: ..."), cut at 600 characters
+// (the events hold the whole text), "" on success.
+std::string trial_status(const TrialResult& result);
+std::string trial_failure_reason(const TrialResult& result);
 
 // Called after set-up and at the end, for looking at the trial (renders).
 using TrialObserver =

@@ -8,15 +8,12 @@
 
 #include "harness/json_input.h"
 #include "harness/layout_json.h"
+#include "harness/trial_schema.h"
 #include "taskmatrix/core/input_error.h"
 
 namespace taskmatrix::harness {
 
 namespace {
-
-nlohmann::json number_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
 
 nlohmann::json identity(const RunPlan& plan, const TrialSpec& spec) {
   const Scenario& s = plan.scenarios.at(static_cast<size_t>(spec.scenario));
@@ -41,8 +38,8 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
   nlohmann::json j = identity(plan, spec);
   const mujoco::WorkRecord& w = r.work;
   j["success"] = r.success;
-  j["status"] = r.status;
-  j["failure_reason"] = r.failure_reason;
+  j["status"] = trial_status(r);
+  j["failure_reason"] = trial_failure_reason(r);
   j["planning_time_s"] = w.planning_time_s();
   j["simplification_time_s"] = w.simplification_time_s();
   j["plan_calls"] = w.plans.size();
@@ -100,22 +97,14 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
 }
 
 nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
-                                 const std::string& status, const std::string& reason) {
+                                 const core::Failure& failure) {
   nlohmann::json j = identity(plan, spec);
   j["success"] = false;
-  j["status"] = status;
-  j["failure_reason"] = reason;
-  for (const char* key : {"planning_time_s",   "simplification_time_s",
-                          "plan_calls",        "planner_runs",
-                          "collision_checks",  "ik_calls",
-                          "ik_time_s",         "path_length_joint",
-                          "path_length_ee_m",  "duration_s",
-                          "sim_time_s",        "smoothness",
-                          "min_clearance_m",   "clearance_samples",
-                          "control_periods",   "trial_wall_s",
-                          "executive_wall_s",  "stepping_wall_s",
-                          "monitoring_wall_s", "contacts_per_pass"}) {
-    j[key] = nullptr;
+  j["status"] = core::to_string(failure.code);
+  j["failure_reason"] = failure.text();
+  // Nothing was measured: null, never 0.
+  for (const TrialField& f : kTrialFields) {
+    if (f.source == FieldSource::kMeasured) j[std::string(f.name)] = nullptr;
   }
   j["events"] = nlohmann::json::array();
   j["plans"] = nlohmann::json::array();
@@ -147,7 +136,10 @@ std::vector<std::string> clock_bounds_hit(const nlohmann::json& trial) {
     }
   }
   const auto status = trial.find("status");
-  if (status != trial.end() && status->is_string() && *status == "timeout") add("wall_limit");
+  if (status != trial.end() && status->is_string() &&
+      core::failure_code_from_string(status->get<std::string>()) == core::FailureCode::kTimeout) {
+    add("wall_limit");
+  }
   return hit;
 }
 

@@ -2,16 +2,9 @@
 // never renamed), and reading a trials.jsonl back (a torn last line, from a killed run, is
 // ignored).
 //
-// Fields: trial_id, scenario, robot, environment, program, planner (label), planner_name,
-// execution, seed, layout_seed, success, status, failure_reason, planning_time_s,
-// simplification_time_s, plan_calls, planner_runs, collision_checks, ik_calls, ik_time_s,
-// path_length_joint, path_length_ee_m, duration_s, sim_time_s, smoothness, min_clearance_m,
-// wall_time_s, trial_wall_s, executive_wall_s, stepping_wall_s, monitoring_wall_s,
-// contacts_per_pass, overhead_s, cpu_time_s, peak_memory_mb, events,
-// plans, removed_debris, trajectory, clock_bound_hit, layout (the drawn world:
-// harness/layout_json.h; also for a crashed or killed trial, drawn by the runner). Unmeasured
-// values (a crashed trial's) are
-// null.
+// Fields: the rows of kTrialFields (harness/trial_schema.h), with their units and what each
+// output does with them; layout is the drawn world (harness/layout_json.h; also for a crashed
+// or killed trial, drawn by the runner). Unmeasured values (a crashed trial's) are null.
 #pragma once
 
 #include <filesystem>
@@ -31,7 +24,7 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
 // A trial that produced no result (crash, timeout): identity, status and reason; the
 // measurements are null.
 nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
-                                 const std::string& status, const std::string& reason);
+                                 const core::Failure& failure);
 
 // The clock bounds that decided a trial, so that its result may differ on a rerun under other
 // load: "plan_time_limit" (a planner stopped by the clock), "simplify_time_limit", "wall_limit"

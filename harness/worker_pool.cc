@@ -1,4 +1,5 @@
 #include "harness/worker_pool.h"
+#include "taskmatrix/core/motion_planning.h"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -196,31 +197,27 @@ size_t run_in_workers(size_t count, const WorkerPoolOptions& options,
       while (wait4(r.pid, &status, 0, &usage) < 0 && errno == EINTR) {
       }
       WorkerOutcome out;
-      out.wall_s = std::chrono::duration<double>(Clock::now() - r.start).count();
+      out.wall_s = core::seconds_since(r.start);
       out.peak_memory_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
       out.cpu_s = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
                   1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
       if (r.timed_out) {
-        out.status = "timeout";
         char buf[96];
-        std::snprintf(buf, sizeof buf,
-                      "timeout: no result within the wall-clock limit of %g s; killed",
+        std::snprintf(buf, sizeof buf, "no result within the wall-clock limit of %g s; killed",
                       wall_limit_s(r.task));
-        out.reason = buf;
+        out.failure = core::Failure(core::FailureCode::kTimeout, buf);
       } else if (r.payload.rfind("!crash ", 0) == 0) {
-        out.status = "crash";
-        out.reason = "crash: " + r.payload.substr(7);
+        out.failure = core::Failure(core::FailureCode::kCrash, r.payload.substr(7));
       } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && !r.payload.empty()) {
         out.has_result = true;
         out.payload = std::move(r.payload);
       } else if (WIFSIGNALED(status)) {
-        out.status = "crash";
-        out.reason = "crash: " + signal_text(WTERMSIG(status));
+        out.failure = core::Failure(core::FailureCode::kCrash, signal_text(WTERMSIG(status)));
       } else {
-        out.status = "crash";
-        out.reason = "crash: the worker exited with status " +
-                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                     " without a result";
+        out.failure = core::Failure(
+            core::FailureCode::kCrash,
+            "the worker exited with status " +
+                std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + " without a result");
       }
       const size_t task = r.task;
       running.erase(running.begin() + static_cast<long>(k));

@@ -14,13 +14,14 @@
 #include <functional>
 #include <string>
 
+#include "taskmatrix/core/failure.h"
+
 namespace taskmatrix::harness {
 
 struct WorkerOutcome {
   bool has_result = false;  // the worker wrote its payload and exited 0
   std::string payload;
-  std::string status;  // when !has_result: "crash" or "timeout"
-  std::string reason;
+  core::Failure failure;      // when !has_result: kCrash or kTimeout, and what happened
   double wall_s = 0;          // fork to reaped
   double peak_memory_mb = 0;  // the worker's maximum resident set (getrusage of the child)
   double cpu_s = 0;           // the worker's user + system CPU time (getrusage of the child)

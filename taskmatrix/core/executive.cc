@@ -26,9 +26,9 @@ class Executive::Context final : public ProgramContext {
   const PerceptualModel& percepts() const override { return e_.percepts_; }
   double time() const override { return e_.skills_.time(); }
   int self() const override { return id_; }
-  void emit(MessageType type, const std::string& reason,
+  void emit(MessageType type, std::optional<Failure> failure,
             std::shared_ptr<const PlanResult> plan) override {
-    e_.emit(id_, type, reason, std::move(plan));
+    e_.emit(id_, type, std::move(failure), std::move(plan));
   }
   const PlanOptions& plan_options() const override { return e_.options_.plan; }
   std::uint32_t next_seed() override { return e_.next_seed(); }
@@ -98,20 +98,22 @@ bool Executive::contained(int id, F&& what) {
     what();
     return true;
   } catch (const std::invalid_argument& e) {
-    finish(id, MessageType::kFailed, std::string("invalid_input: ") + e.what());
+    finish(id, MessageType::kFailed, Failure{FailureCode::kInvalidInput, e.what()});
   } catch (const std::exception& e) {
-    finish(id, MessageType::kFailed, "program_error: " + instances_.at(id)->name + ": " + e.what());
+    finish(id, MessageType::kFailed,
+           Failure{FailureCode::kProgramError, instances_.at(id)->name + ": " + e.what()});
   } catch (...) {
     finish(id, MessageType::kFailed,
-           "program_error: " + instances_.at(id)->name + ": an exception of unknown type");
+           Failure{FailureCode::kProgramError,
+                   instances_.at(id)->name + ": an exception of unknown type"});
   }
   return false;
 }
 
-void Executive::emit(int id, MessageType type, const std::string& reason,
-                     std::shared_ptr<const PlanResult> plan, const std::string& path) {
+void Executive::emit(int id, MessageType type, std::optional<Failure> failure,
+                     std::shared_ptr<const PlanResult> plan) {
   Instance& inst = *instances_.at(id);
-  Message m{skills_.time(), id, inst.name, type, reason, std::move(plan), path};
+  Message m{skills_.time(), id, inst.name, type, std::move(failure), std::move(plan)};
   log_.push_back(m);
   if (inst.parent >= 0) {
     const auto parent = instances_.find(inst.parent);
@@ -145,13 +147,14 @@ int Executive::launch(std::unique_ptr<TaskProgram> program, const std::string& n
     if (held != chain_holder_.end()) {
       const Instance& other = *instances_.at(held->second);
       finish(id, MessageType::kFailed,
-             "chains_busy: " + c + " held by " + other.name + "#" + std::to_string(other.id));
+             Failure{FailureCode::kChainsBusy,
+                     c + " held by " + other.name + "#" + std::to_string(other.id)});
       return id;
     }
   }
   for (const std::string& c : chains) chain_holder_[c] = id;
   self.chains = chains;
-  emit(id, MessageType::kStarted, "");
+  emit(id, MessageType::kStarted);
   ConditionPtr pre;
   bool holds = true;
   if (!contained(id, [&] {
@@ -162,15 +165,14 @@ int Executive::launch(std::unique_ptr<TaskProgram> program, const std::string& n
   }
   if (!holds) {
     finish(id, MessageType::kFailed,
-           "precondition_false: " + pre->explain(World{skills_, percepts_}));
+           Failure{FailureCode::kPreconditionFalse, pre->explain(World{skills_, percepts_})});
     return id;
   }
   if (contained(id, [&] { self.program->start(*self.context); })) self.started = true;
   return id;
 }
 
-void Executive::finish(int id, MessageType type, const std::string& reason,
-                       const std::string& path) {
+void Executive::finish(int id, MessageType type, std::optional<Failure> failure) {
   Instance& inst = *instances_.at(id);
   if (!inst.running) return;
   for (int child : inst.children) halt(child);
@@ -178,7 +180,7 @@ void Executive::finish(int id, MessageType type, const std::string& reason,
     const auto it = chain_holder_.find(c);
     if (it != chain_holder_.end() && it->second == id) chain_holder_.erase(it);
   }
-  emit(id, type, reason, nullptr, path);
+  emit(id, type, std::move(failure));
   refresh_percepts_ = true;
   inst.running = false;
   inst.outcome = log_.back();
@@ -190,7 +192,7 @@ void Executive::halt(int id) {
   Instance& inst = *it->second;
   for (int child : inst.children) halt(child);
   if (inst.started && !contained(id, [&] { inst.program->halt(*inst.context); })) return;
-  finish(id, MessageType::kHalted, "");
+  finish(id, MessageType::kHalted);
 }
 
 void Executive::tick() {
@@ -205,16 +207,14 @@ void Executive::tick() {
     if (!inst.running) continue;  // ended by an earlier program's step this tick
     ProgramState state = ProgramState::kRunning;
     if (!contained(id, [&] { state = inst.program->step(*inst.context); })) continue;
-    if (state == ProgramState::kCompleted) finish(id, MessageType::kCompleted, "");
-    if (state == ProgramState::kFailed) {
-      finish(id, MessageType::kFailed, inst.program->failure(), inst.program->failure_path());
-    }
+    if (state == ProgramState::kCompleted) finish(id, MessageType::kCompleted);
+    if (state == ProgramState::kFailed) finish(id, MessageType::kFailed, inst.program->failure());
   }
   const StepReport step = skills_.advance();
   if (step.unstable) {
     for (int id : ids) {
       if (instances_.at(id)->running && instances_.at(id)->parent < 0)
-        finish(id, MessageType::kFailed, "sim_unstable: " + step.message);
+        finish(id, MessageType::kFailed, Failure{FailureCode::kSimUnstable, step.message});
     }
   }
 }

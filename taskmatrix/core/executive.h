@@ -81,10 +81,10 @@ class Executive {
   class Context;
   struct Instance;
   int launch(std::unique_ptr<TaskProgram> program, const std::string& name, int parent);
-  void emit(int id, MessageType type, const std::string& reason,
-            std::shared_ptr<const PlanResult> plan = nullptr, const std::string& path = "");
+  void emit(int id, MessageType type, std::optional<Failure> failure = std::nullopt,
+            std::shared_ptr<const PlanResult> plan = nullptr);
   std::uint32_t next_seed();
-  void finish(int id, MessageType type, const std::string& reason, const std::string& path = "");
+  void finish(int id, MessageType type, std::optional<Failure> failure = std::nullopt);
   // Runs `what` (a call into program `id`); an exception fails the program (see above).
   // Returns false if it threw.
   template <typename F>

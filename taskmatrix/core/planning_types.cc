@@ -1,5 +1,7 @@
 #include "taskmatrix/core/planning_types.h"
 
+#include "taskmatrix/core/failure.h"
+
 namespace taskmatrix::core {
 
 const char* to_string(IkStatus status) {
@@ -17,23 +19,9 @@ const char* to_string(IkStatus status) {
 }
 
 const char* to_string(PlanStatus status) {
-  switch (status) {
-    case PlanStatus::kExactSolution:
-      return "exact_solution";
-    case PlanStatus::kApproximateSolution:
-      return "approximate_solution";
-    case PlanStatus::kTimeout:
-      return "planning_timeout";
-    case PlanStatus::kInvalidStart:
-      return "invalid_start";
-    case PlanStatus::kInvalidGoal:
-      return "invalid_goal";
-    case PlanStatus::kIkFailure:
-      return "ik_failure";
-    case PlanStatus::kInvalidInput:
-      return "invalid_input";
-  }
-  return "?";
+  // A failed plan's status reads as the failure it causes ("planning_timeout").
+  if (status == PlanStatus::kExactSolution) return "exact_solution";
+  return to_string(failure_code(status));
 }
 
 }  // namespace taskmatrix::core

@@ -87,7 +87,8 @@ struct IkResult {
 enum class PlanStatus {
   kExactSolution,        // the only success
   kApproximateSolution,  // OMPL found a path ending near, not at, the goal
-  kTimeout,              // no path within the time limit
+  kTimeout,              // no path within the budget (iterations, or the clock)
+  kPlanningFailed,       // the planner stopped without a path before its budget; see message
   kInvalidStart,         // the start is in collision or outside limits
   kInvalidGoal,          // every goal is in collision or outside limits
   kIkFailure,            // no goal configuration for the requested pose

@@ -170,7 +170,7 @@ bool Skillset::is_valid(const std::vector<std::string>& chain_names,
                         const std::vector<double>& values) {
   check_chains(chain_names);
   check_values(chain_names, values, "configuration");
-  if (outside_limits(chain_names, values, kLimitSlack) >= 0) return false;
+  if (outside_limits(chain_names, values, kLimitRounding) >= 0) return false;
   const bool valid = do_is_valid(chain_names, values);
   ++work_.collision_checks;
   return valid;
@@ -208,7 +208,7 @@ PlanResult Skillset::plan_to_configuration(const std::vector<std::string>& chain
   } else {
     try {
       check_values(chain_names, goal, "goal");
-      if (const int i = outside_limits(chain_names, goal, kLimitSlack); i >= 0) {
+      if (const int i = outside_limits(chain_names, goal, kLimitRounding); i >= 0) {
         const ChainInfo* c = nullptr;
         size_t k = static_cast<size_t>(i);
         for (const std::string& name : chain_names) {
@@ -342,7 +342,7 @@ PlanResult Skillset::plan_to_region_unrecorded(const std::vector<std::string>& c
                           "or with NaN");
     }
     // A goal's check is part of the plan's work, not an is_valid call of the program's.
-    if (outside_limits(chain_names, *q, kLimitSlack) < 0 && do_is_valid(chain_names, *q)) {
+    if (outside_limits(chain_names, *q, kLimitRounding) < 0 && do_is_valid(chain_names, *q)) {
       goals.push_back(*q);
     }
   }
@@ -394,7 +394,7 @@ void Skillset::command(const std::vector<std::string>& chain_names,
     const ChainInfo& c = chain(name);
     for (size_t i = 0; i < c.joints.size(); ++i, ++k) {
       const double lo = c.lower[i], hi = c.upper[i];
-      if (positions[k] < lo - kCommandTolerance || positions[k] > hi + kCommandTolerance) {
+      if (positions[k] < lo - kCommandClampTolerance || positions[k] > hi + kCommandClampTolerance) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
                       "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]",

@@ -30,6 +30,7 @@
 #include <string_view>
 #include <vector>
 
+#include "taskmatrix/core/joint_limits.h"
 #include "taskmatrix/core/planning_types.h"
 #include "taskmatrix/core/robot_profile.h"
 #include "taskmatrix/core/trajectory.h"
@@ -181,7 +182,7 @@ class Skillset {
   double control_period() const { return do_control_period(); }  // seconds per advance()
   // Position targets for the chains' joints, held until changed. Throws std::invalid_argument
   // for NaN, wrong sizes or values outside limits (beyond rounding: a value within
-  // kCommandTolerance of a limit is clamped to it). The base moves only through these.
+  // kCommandClampTolerance of a limit is clamped to it; core/joint_limits.h). The base moves only through these.
   void command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
                const std::vector<double>& velocities = {},
                const std::vector<double>& accelerations = {});
@@ -308,10 +309,5 @@ class Skillset {
   int record_every_ = 0;  // control periods per recorded frame; 0: not recording
   int query_depth_ = 0;
 };
-
-// A joint value this far past a limit is rounding (of arithmetic on the limit's value): a
-// command there is clamped to the limit, a query treats it as within (kLimitSlack).
-inline constexpr double kCommandTolerance = 1e-6;
-inline constexpr double kLimitSlack = 1e-9;
 
 }  // namespace taskmatrix::core

@@ -179,8 +179,8 @@ class StateMachineProgram final : public TaskProgram {
       failed.time = ctx.time();
       failed.sender = kInvariantSender;
       failed.type = MessageType::kFailed;
-      failed.reason =
-          "invariant_false: " + invariant_->explain(ctx.world()) + " (state " + current_ + ")";
+      failed.failure = Failure(FailureCode::kInvariantFalse,
+                               invariant_->explain(ctx.world()) + " (state " + current_ + ")");
       inbox.push_back(failed);
     }
     for (const Message& m : inbox) {
@@ -193,7 +193,8 @@ class StateMachineProgram final : public TaskProgram {
       }
       if (source.empty()) continue;  // an old child's late message
       // Where a failure happened: this state (or concurrent program) and the path inside it.
-      const std::string where = step_label(source) + (m.path.empty() ? "" : " > " + m.path);
+      const std::string inner = m.failure ? m.failure->path : "";
+      const std::string where = step_label(source) + (inner.empty() ? "" : " > " + inner);
       const MachineTransition* t = nullptr;
       std::string guards_false;
       for (size_t k = 0; k < spec_.transitions.size(); ++k) {
@@ -216,20 +217,23 @@ class StateMachineProgram final : public TaskProgram {
           current_child_ = -1;
           stop_concurrent(ctx);
           if (!guards_false.empty()) {
-            return fail("no_transition: " + current_ + " " + to_string(m.type) +
-                            " and no guard holds (" + guards_false + ")" +
-                            (m.reason.empty() ? "" : "; it said " + m.reason),
-                        where);
+            return fail(Failure(FailureCode::kNoTransition,
+                                current_ + " " + to_string(m.type) + " and no guard holds (" +
+                                    guards_false + ")" +
+                                    (m.failure ? "; it said " + m.failure->reason() : ""),
+                                where));
           }
-          return fail(
-              m.type == MessageType::kFailed ? m.reason : current_ + " " + to_string(m.type),
-              where);
+          if (m.type == MessageType::kFailed && m.failure) {
+            return fail(Failure(m.failure->code, m.failure->detail, where));
+          }
+          return fail(Failure(FailureCode::kNoTransition,
+                              current_ + " " + to_string(m.type) + " and no transition", where));
         }
         continue;
       }
       if (source == current_ && terminal) current_child_ = -1;
-      last_reason_ = m.reason;
-      last_path_ = m.type == MessageType::kFailed ? where : "";
+      last_failure_ = m.failure;
+      if (last_failure_) last_failure_->path = m.type == MessageType::kFailed ? where : "";
       for (const std::string& name : t->stop) {
         const auto it = concurrent_ids_.find(name);
         if (it != concurrent_ids_.end()) ctx.halt_child(it->second);
@@ -241,8 +245,11 @@ class StateMachineProgram final : public TaskProgram {
     if (!done_) return ProgramState::kRunning;
     stop_concurrent(ctx);
     if (success_) return ProgramState::kCompleted;
-    if (last_reason_.empty()) return fail("final state " + current_);
-    return fail(last_reason_, last_path_);
+    if (!last_failure_) {
+      return fail(FailureCode::kFailureState,
+                  "final state " + current_ + ", which is not a success");
+    }
+    return fail(*last_failure_);
   }
 
  private:
@@ -287,7 +294,7 @@ class StateMachineProgram final : public TaskProgram {
   int current_child_ = -1;
   std::map<std::string, int> concurrent_ids_;
   bool done_ = false, success_ = false;
-  std::string last_reason_, last_path_;
+  std::optional<Failure> last_failure_;             // of the last message that took a transition
   std::vector<ConditionPtr> guards_;                // per transition; null: none
   std::map<std::string, ConditionPtr> invariants_;  // by state
   ConditionPtr invariant_;                          // of the current state

@@ -165,22 +165,6 @@ MessageType message_type_from_string(const std::string& name) {
       "' is not a message (started, planning_started, planning_ended, completed, failed, halted)");
 }
 
-std::string failure_text(const std::string& program, const Message& failed) {
-  if (failed.path.empty()) return failed.reason;
-  return program + " > " + failed.path + ": " + failed.reason;
-}
-
-std::string failure_status(const std::string& text) {
-  size_t begin = 0;
-  size_t colon = text.find(": ");
-  // A path ("a > b(c): ...") comes first: the status is the next word.
-  if (colon != std::string::npos && text.substr(0, colon).find(" > ") != std::string::npos) {
-    begin = colon + 2;
-  }
-  colon = text.find(':', begin);
-  return colon == std::string::npos ? text.substr(begin) : text.substr(begin, colon - begin);
-}
-
 std::string path_step(const std::string& program, const std::string& state) {
   return state == program || state.empty() ? program : program + "(" + state + ")";
 }

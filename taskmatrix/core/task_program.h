@@ -8,12 +8,14 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "taskmatrix/core/conditions.h"
+#include "taskmatrix/core/failure.h"
 #include "taskmatrix/core/parameters.h"
 #include "taskmatrix/core/perceptual_model.h"
 #include "taskmatrix/core/skillset.h"
@@ -55,20 +57,16 @@ struct Message {
   int sender = -1;      // program instance id
   std::string program;  // its program type, e.g. "reach"
   MessageType type = MessageType::kStarted;
-  std::string reason;  // for failures: "ik_failure: ...", "collision: ...", ...
+  // For kFailed: why, and for a failure of a state machine where in it (and in the machines
+  // it runs) it happened (Failure::path, e.g. "greet > postural(lower)"). For kPlanningEnded:
+  // the failure of a plan that failed.
+  std::optional<Failure> failure;
   // For kPlanningEnded: the plan's result (status, times, work counts, path).
   std::shared_ptr<const PlanResult> plan;
-  // For failures of a state machine: where in it (and in the machines it runs) the failure
-  // happened, as "state-program(state) > ..." down to the program that failed, e.g.
-  // "greet > postural(lower)"; empty when the program failed itself.
-  std::string path;
+  // The failure's reason ("ik_failure: ..."); "" without a failure.
+  std::string reason() const { return failure ? failure->reason() : ""; }
 };
 
-// A failure as a user reads it: "<program> > <path>: <reason>" (e.g. "tidy > greet >
-// postural(lower): invalid_goal: ..."), or the reason alone when `program` failed itself.
-std::string failure_text(const std::string& program, const Message& failed);
-// The status of a failure text or reason: its first "word:" after any path ("invalid_goal").
-std::string failure_status(const std::string& text);
 // One step of a path: "program" when the state is named after it, else "program(state)".
 std::string path_step(const std::string& program, const std::string& state);
 
@@ -85,7 +83,7 @@ class ProgramContext {
   World world() { return World{skills(), percepts()}; }
   virtual double time() const = 0;
   virtual int self() const = 0;  // this program's instance id
-  virtual void emit(MessageType type, const std::string& reason = "",
+  virtual void emit(MessageType type, std::optional<Failure> failure = std::nullopt,
                     std::shared_ptr<const PlanResult> plan = nullptr) = 0;
   // Planner settings and a seed source for this run.
   virtual const PlanOptions& plan_options() const = 0;
@@ -122,27 +120,26 @@ class TaskProgram {
   // a choice (which arm, which side to mirror a posture to) makes it here, may record it, and
   // returns its chains. Defaults to chains().
   virtual std::vector<std::string> claim(const ClaimContext& ctx) { return chains(ctx.skills); }
-  // May be null. Checked when the program starts; false fails it with "precondition_false".
+  // May be null. Checked when the program starts; false fails it with kPreconditionFalse.
   virtual ConditionPtr precondition() const { return nullptr; }
   virtual void start(ProgramContext& ctx) = 0;
   virtual ProgramState step(ProgramContext& ctx) = 0;
   // Forced termination: stop commanding motion (hold where the chains are).
   virtual void halt(ProgramContext& ctx);
-  // Why step() returned kFailed: "<status>: <details>".
-  const std::string& failure() const { return failure_; }
-  // Where, for a state machine (Message::path).
-  const std::string& failure_path() const { return failure_path_; }
+  // Why step() returned kFailed (with a path, for a state machine).
+  const Failure& failure() const { return failure_; }
 
  protected:
-  ProgramState fail(std::string reason, std::string path = "") {
-    failure_ = std::move(reason);
-    failure_path_ = std::move(path);
+  ProgramState fail(Failure failure) {
+    failure_ = std::move(failure);
     return ProgramState::kFailed;
+  }
+  ProgramState fail(FailureCode code, std::string detail) {
+    return fail(Failure(code, std::move(detail)));
   }
 
  private:
-  std::string failure_;
-  std::string failure_path_;
+  Failure failure_;
 };
 
 // ---- The program registry: names to parameter specs and factories.

@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "taskmatrix/core/joint_limits.h"
 #include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 
@@ -13,7 +14,6 @@ namespace taskmatrix::mujoco {
 
 namespace {
 
-constexpr double kLimitSlack = 0.02;      // rad or m
 constexpr double kEndpointRadius = 0.25;  // rad or m
 constexpr double kMaxTimeLimitS = 86400;  // beyond it, planners' deadline arithmetic overflows
 
@@ -61,9 +61,9 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     hi[i] = m->jnt_range[2 * joints_[i] + 1];
     start[i] = d->qpos[m->jnt_qposadr[joints_[i]]];
     // Simulated joints rest slightly past a limit they are held at (soft limit constraints):
-    // plan from the limit. Beyond kLimitSlack the start is invalid.
-    if (start[i] < lo[i] && start[i] >= lo[i] - kLimitSlack) start[i] = lo[i];
-    if (start[i] > hi[i] && start[i] <= hi[i] + kLimitSlack) start[i] = hi[i];
+    // plan from the limit. Beyond core::kStartPastLimit the start is invalid.
+    if (start[i] < lo[i] && start[i] >= lo[i] - core::kStartPastLimit) start[i] = lo[i];
+    if (start[i] > hi[i] && start[i] <= hi[i] + core::kStartPastLimit) start[i] = hi[i];
   }
   for (const auto& g : goals) {
     if (g.size() != n)
@@ -74,7 +74,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
         return fail(core::PlanStatus::kInvalidInput,
                     std::string("goal value for joint '") + joint + "' is not finite");
       }
-      if (g[i] < lo[i] - 1e-9 || g[i] > hi[i] + 1e-9) {
+      if (g[i] < lo[i] - core::kLimitRounding || g[i] > hi[i] + core::kLimitRounding) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
                       "goal value %.6g for joint '%s' is outside its limits [%.6g, %.6g]", g[i],
@@ -100,12 +100,13 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
 
   auto within = [&](const std::vector<double>& q) {
     for (size_t i = 0; i < n; ++i) {
-      if (q[i] < lo[i] - 1e-9 || q[i] > hi[i] + 1e-9) return false;
+      if (q[i] < lo[i] - core::kLimitRounding || q[i] > hi[i] + core::kLimitRounding) return false;
     }
     return true;
   };
   for (size_t i = 0; i < n; ++i) {
-    if (start[i] >= lo[i] - 1e-9 && start[i] <= hi[i] + 1e-9) continue;
+    if (start[i] >= lo[i] - core::kLimitRounding && start[i] <= hi[i] + core::kLimitRounding)
+      continue;
     restore();
     char buf[200];
     std::snprintf(buf, sizeof buf, "joint '%s' starts at %.6g, outside its limits [%.6g, %.6g]",
@@ -245,14 +246,19 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
       result.status = core::PlanStatus::kInvalidGoal;
       break;
     case core::PlannerStatus::kFailed:
-      result.status = core::PlanStatus::kTimeout;
+      // Stopped without a path for a reason of its own (OMPL's abort, crash or infeasible):
+      // not a timeout, whose budget was spent.
+      result.status = core::PlanStatus::kPlanningFailed;
+      if (result.message.empty()) {
+        result.message = "planner " + o.planner.name + " stopped without a path";
+      }
       break;
   }
 
   if (result.status == core::PlanStatus::kExactSolution ||
       result.status == core::PlanStatus::kApproximateSolution) {
     for (std::vector<double> q : planned.path) {
-      // Within the joint limits exactly (goals may lie up to 1e-9 outside).
+      // Within the joint limits exactly (goals may lie up to core::kLimitRounding outside).
       for (size_t i = 0; i < n; ++i) q[i] = std::clamp(q[i], lo[i], hi[i]);
       result.path.push_back(std::move(q));
     }

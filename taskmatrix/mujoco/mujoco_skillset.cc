@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "taskmatrix/core/joint_limits.h"
 #include "taskmatrix/mujoco/body_kinematics.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 #include "taskmatrix/mujoco/kinematics.h"

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/joint_limits.h"
 #include "taskmatrix/io/model_files.h"
 #include "taskmatrix/io/text_file.h"
 #include "taskmatrix/mujoco/mjcf_compose.h"
@@ -249,7 +250,8 @@ void Scene::index_and_validate() {
                           const std::string& key) {
     const ChainIndex& c = chain(chain_name);
     for (size_t i = 0; i < c.joints.size(); ++i) {
-      if (values[i] < c.lower[i] - 1e-9 || values[i] > c.upper[i] + 1e-9) {
+      if (values[i] < c.lower[i] - core::kLimitRounding ||
+          values[i] > c.upper[i] + core::kLimitRounding) {
         throw InputError(pfile, key,
                          "value " + std::to_string(values[i]) + " for joint '" +
                              mj_id2name(m, mjOBJ_JOINT, c.joints[i]) + "' is outside [" +

@@ -45,10 +45,10 @@ class Canned final : public core::TaskProgram {
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
-    if (!failure_.empty()) return fail(failure_);
-    const std::optional<std::string> result = stage_.step();
+    if (failure_) return fail(*failure_);
+    const std::optional<Ended> result = stage_.step();
     if (!result) return core::ProgramState::kRunning;
-    if (!result->empty()) return fail(*result);
+    if (*result) return fail(**result);
     if (playing_) return core::ProgramState::kCompleted;
     play(ctx);  // at the first keyframe: start the motion itself
     return core::ProgramState::kRunning;
@@ -80,7 +80,7 @@ class Canned final : public core::TaskProgram {
   std::string motion_name_, side_;
   LimbChoice choice_;
   MotionStage stage_;
-  std::string failure_;
+  std::optional<core::Failure> failure_;
   bool playing_ = false;
 };
 

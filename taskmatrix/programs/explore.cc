@@ -68,13 +68,14 @@ class Explore final : public core::TaskProgram {
 
   void start(core::ProgramContext& ctx) override {
     failure_ = make_region(ctx);
-    if (!failure_.empty()) return;
+    if (failure_) return;
     // Cells are counted in doubles first: a wide region with small cells must not overflow.
     const double cx = std::max(1.0, std::round((region_.x1 - region_.x0) / cell_));
     const double cy = std::max(1.0, std::round((region_.y1 - region_.y0) / cell_));
     if (!(cx * cy <= kMaxCells)) {
-      failure_ = "invalid_input: the region holds " + number(cx * cy) + " cells of " +
-                 number(cell_) + " m (at most " + number(kMaxCells) + ")";
+      failure_ = core::Failure(core::FailureCode::kInvalidInput,
+                               "the region holds " + number(cx * cy) + " cells of " +
+                                   number(cell_) + " m (at most " + number(kMaxCells) + ")");
       return;
     }
     nx_ = static_cast<int>(cx);
@@ -90,15 +91,15 @@ class Explore final : public core::TaskProgram {
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
-    if (!failure_.empty()) return fail(failure_);
+    if (failure_) return fail(*failure_);
     if (coverage() >= target_ - 1e-12) return core::ProgramState::kCompleted;
     if (ctx.time() - start_time_ >= time_limit_) {
       return fail(shortfall("the time limit of " + number(time_limit_) + " s passed"));
     }
     if (ctx.time() >= next_scan_ - 1e-9) scan(ctx);
-    const std::optional<std::string> moved = motion_.step();
+    const std::optional<Ended> moved = motion_.step();
     if (!moved) return core::ProgramState::kRunning;
-    if (!moved->empty()) return fail(*moved);
+    if (*moved) return fail(**moved);
     // At a viewpoint: look, then choose the next one.
     scan(ctx);
     for (size_t c : expected_) {
@@ -106,7 +107,7 @@ class Explore final : public core::TaskProgram {
     }
     if (coverage() >= target_ - 1e-12) return core::ProgramState::kCompleted;
     next_viewpoint(ctx);
-    if (!failure_.empty()) return fail(failure_);
+    if (failure_) return fail(*failure_);
     return core::ProgramState::kRunning;
   }
 
@@ -118,7 +119,7 @@ class Explore final : public core::TaskProgram {
     return s.str();
   }
 
-  std::string make_region(core::ProgramContext& ctx) {
+  std::optional<core::Failure> make_region(core::ProgramContext& ctx) {
     if (!bounds_.empty()) {
       double v[5];
       for (int i = 0; i < 5; ++i) {
@@ -127,22 +128,27 @@ class Explore final : public core::TaskProgram {
           v[i] = std::stod(bounds_[i], &used);
           if (used != bounds_[i].size() || !std::isfinite(v[i])) throw std::invalid_argument("");
         } catch (const std::exception&) {
-          return "invalid_input: bounds[" + std::to_string(i) + "] '" + bounds_[i] +
-                 "' is not a number";
+          return core::Failure(
+              core::FailureCode::kInvalidInput,
+              "bounds[" + std::to_string(i) + "] '" + bounds_[i] + "' is not a number");
         }
       }
-      if (!(v[0] < v[1] && v[2] < v[3])) return "invalid_input: bounds must have min < max";
+      if (!(v[0] < v[1] && v[2] < v[3]))
+        return core::Failure(core::FailureCode::kInvalidInput, "bounds must have min < max");
       if (!std::all_of(v, v + 5, [](double x) { return std::abs(x) <= kMaxCoordinate; })) {
-        return "invalid_input: bounds must lie within 1000 m of the origin";
+        return core::Failure(core::FailureCode::kInvalidInput,
+                             "bounds must lie within 1000 m of the origin");
       }
       region_ = {v[0], v[1], v[2], v[3], v[4]};
-      return "";
+      return std::nullopt;
     }
     const core::PerceivedObject* s = ctx.percepts().find(surface_);
-    if (!s) return "perception_miss: '" + surface_ + "' is not in the perceptual model";
+    if (!s)
+      return core::Failure(core::FailureCode::kPerceptionMiss,
+                           "'" + surface_ + "' is not in the perceptual model");
     region_ = {s->box.min().x(), s->box.max().x(), s->box.min().y(), s->box.max().y(),
                s->box.max().z()};
-    return "";
+    return std::nullopt;
   }
 
   Eigen::Vector3d cell_centre(size_t c) const {
@@ -156,11 +162,12 @@ class Explore final : public core::TaskProgram {
            static_cast<double>(observed_.size());
   }
 
-  std::string shortfall(const std::string& why) const {
+  core::Failure shortfall(const std::string& why) const {
     const auto seen = std::count(observed_.begin(), observed_.end(), 1);
-    return "coverage_short: observed " + std::to_string(seen) + " of " +
-           std::to_string(observed_.size()) + " cells (coverage " + number(coverage()) +
-           ", target " + number(target_) + "); " + why;
+    return core::Failure(core::FailureCode::kCoverageShort,
+                         "observed " + std::to_string(seen) + " of " +
+                             std::to_string(observed_.size()) + " cells (coverage " +
+                             number(coverage()) + ", target " + number(target_) + "); " + why);
   }
 
   void scan(core::ProgramContext& ctx) {
@@ -251,12 +258,13 @@ class Explore final : public core::TaskProgram {
       }
       if (best < 0) break;
       visited_.insert(static_cast<size_t>(best));
-      const std::string planned = motion_.plan_to_configuration(ctx, chains_, viewpoints_[best]);
-      if (planned.empty()) {
+      const std::optional<core::Failure> planned =
+          motion_.plan_to_configuration(ctx, chains_, viewpoints_[best]);
+      if (!planned) {
         expected_ = std::move(best_cells);
         return;
       }
-      unreachable = planned;
+      unreachable = planned->reason();
     }
     failure_ =
         shortfall(unreachable.empty() ? "no viewpoint shows a cell not yet observed"
@@ -279,7 +287,7 @@ class Explore final : public core::TaskProgram {
   std::set<size_t> visited_;
   double start_time_ = 0, next_scan_ = 0;
   MotionStage motion_;
-  std::string failure_;
+  std::optional<core::Failure> failure_;
 };
 
 }  // namespace

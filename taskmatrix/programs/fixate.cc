@@ -65,15 +65,18 @@ class Fixate final : public core::TaskProgram {
     if (base_) {
       base_cmd_ = skills.clamped_configuration({"base"});
       if (base_cmd_.size() != 3) {
-        failure_ = "invalid_input: the base chain is not planar (x, y, yaw)";
+        failure_ = core::Failure(core::FailureCode::kInvalidInput,
+                                 "the base chain is not planar (x, y, yaw)");
       }
     }
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
-    if (!failure_.empty()) return fail(failure_);
+    if (failure_) return fail(*failure_);
     const core::PerceivedObject* o = ctx.percepts().find(object_);
-    if (!o) return fail("perception_miss: '" + object_ + "' is not in the perceptual model");
+    if (!o)
+      return fail(core::Failure(core::FailureCode::kPerceptionMiss,
+                                "'" + object_ + "' is not in the perceptual model"));
     core::Skillset& skills = ctx.skills();
     const Eigen::Vector3d target = o->box.center();
     const double error = off_axis(skills.frame_pose(camera_), target);
@@ -157,7 +160,7 @@ class Fixate final : public core::TaskProgram {
   std::string camera_;
   std::vector<double> head_, goal_, base_cmd_;
   double start_time_ = 0, centered_since_ = -1;
-  std::string failure_;
+  std::optional<core::Failure> failure_;
 };
 
 }  // namespace

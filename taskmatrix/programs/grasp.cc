@@ -116,9 +116,11 @@ class Grasp final : public core::TaskProgram {
       const std::vector<std::string>& reached = ctx.notes(reached_grasp_note(object_, side_));
       std::vector<std::string>& failed = ctx.notes(failed_grasps_note(object_, side_));
       failed.push_back(reached.empty() ? "unknown" : reached.front());
-      return fail("grasp_failed: " + std::to_string(touching) + " of " +
-                  std::to_string(hand_->fingers.size()) + " fingers of the " + side_ +
-                  " hand touch '" + object_ + "' (need " + std::to_string(needed_) + ")");
+      return fail(core::Failure(core::FailureCode::kGraspFailed,
+                                std::to_string(touching) + " of " +
+                                    std::to_string(hand_->fingers.size()) + " fingers of the " +
+                                    side_ + " hand touch '" + object_ + "' (need " +
+                                    std::to_string(needed_) + ")"));
     }
     skills.attach(object_, side_);
     return core::ProgramState::kCompleted;

@@ -58,11 +58,13 @@ class Position final : public core::TaskProgram {
   void start(core::ProgramContext& ctx) override {
     const core::PerceivedObject* held = ctx.percepts().find(object_);
     if (!held) {
-      failure_ = "perception_miss: '" + object_ + "' is not in the perceptual model";
+      failure_ = core::Failure(core::FailureCode::kPerceptionMiss,
+                               "'" + object_ + "' is not in the perceptual model");
       return;
     }
     if (frame_ != "origin" && !held->frames.count(frame_)) {
-      failure_ = "invalid_input: '" + object_ + "' has no frame '" + frame_ + "'";
+      failure_ = core::Failure(core::FailureCode::kInvalidInput,
+                               "'" + object_ + "' has no frame '" + frame_ + "'");
       return;
     }
     const std::string frame = frame_ == "origin" ? object_ : object_ + "." + frame_;
@@ -75,8 +77,10 @@ class Position final : public core::TaskProgram {
       const core::PerceivedObject* goal = target_object(ctx, now.position);
       if (!goal) {
         failure_ = target_.empty()
-                       ? "perception_miss: no object of type '" + target_type_ + "' is known"
-                       : "perception_miss: '" + target_ + "' is not in the perceptual model";
+                       ? core::Failure(core::FailureCode::kPerceptionMiss,
+                                       "no object of type '" + target_type_ + "' is known")
+                       : core::Failure(core::FailureCode::kPerceptionMiss,
+                                       "'" + target_ + "' is not in the perceptual model");
         return;
       }
       goal_ = goal->id;
@@ -84,7 +88,7 @@ class Position final : public core::TaskProgram {
       p.z() = goal->box.max().z() + height_;
       points.push_back(p);
     }
-    if (!failure_.empty()) return;
+    if (failure_) return;
 
     // The held object upright, as it stood before it was grasped (a grasp that tilted it a
     // little does not carry the tilt to where it goes), at several turns about the vertical,
@@ -115,10 +119,10 @@ class Position final : public core::TaskProgram {
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
-    if (!failure_.empty()) return fail(failure_);
-    const std::optional<std::string> result = arm_motion_.step(ctx);
+    if (failure_) return fail(*failure_);
+    const std::optional<Ended> result = arm_motion_.step(ctx);
     if (!result) return core::ProgramState::kRunning;
-    if (!result->empty()) return fail(*result);
+    if (*result) return fail(**result);
     return core::ProgramState::kCompleted;
   }
 
@@ -149,10 +153,12 @@ class Position final : public core::TaskProgram {
 
   // Placements on `on_`: the object's frame where its box would rest on a drawn placement,
   // nearest the object's current position first.
-  std::string placements(core::ProgramContext& ctx, const core::PerceivedObject& held,
-                         const core::Pose& now, std::vector<Eigen::Vector3d>& points) const {
+  std::optional<core::Failure> placements(core::ProgramContext& ctx,
+                                          const core::PerceivedObject& held, const core::Pose& now,
+                                          std::vector<Eigen::Vector3d>& points) const {
     if (!ctx.percepts().knows(on_)) {
-      return "perception_miss: surface '" + on_ + "' is not in the perceptual model";
+      return core::Failure(core::FailureCode::kPerceptionMiss,
+                           "surface '" + on_ + "' is not in the perceptual model");
     }
     const core::ConditionPtr resting =
         core::all_of({core::above(object_, on_), core::near(object_, on_)});
@@ -160,7 +166,8 @@ class Position final : public core::TaskProgram {
     std::vector<Eigen::AlignedBox3d> boxes =
         core::sample_placements(*resting, ctx.world(), object_, rng, 40);
     if (boxes.empty()) {
-      return "invalid_goal: no placement satisfies " + resting->describe();
+      return core::Failure(core::FailureCode::kInvalidGoal,
+                           "no placement satisfies " + resting->describe());
     }
     const Eigen::Vector3d offset = now.position - held.box.center();
     std::sort(boxes.begin(), boxes.end(), [&](const auto& a, const auto& b) {
@@ -171,7 +178,7 @@ class Position final : public core::TaskProgram {
     for (const Eigen::AlignedBox3d& box : boxes) {
       points.push_back(box.center() + offset + Eigen::Vector3d(0, 0, height_));
     }
-    return "";
+    return std::nullopt;
   }
 
   std::string object_, frame_, target_, target_type_, on_;
@@ -179,7 +186,7 @@ class Position final : public core::TaskProgram {
   bool use_torso_ = true, torso_ = false, use_base_ = true, base_ = false;
   std::string side_, goal_;
   ArmMotion arm_motion_;
-  std::string failure_;
+  std::optional<core::Failure> failure_;
 };
 
 }  // namespace

@@ -49,11 +49,11 @@ class Postural final : public core::TaskProgram {
   }
 
   core::ProgramState step(core::ProgramContext&) override {
-    if (!failure_.empty()) return fail(failure_);
+    if (failure_) return fail(*failure_);
     if (done_) return core::ProgramState::kCompleted;
-    const std::optional<std::string> result = motion_.step();
+    const std::optional<Ended> result = motion_.step();
     if (!result) return core::ProgramState::kRunning;
-    if (!result->empty()) return fail(*result);
+    if (*result) return fail(**result);
     return core::ProgramState::kCompleted;
   }
 
@@ -69,7 +69,7 @@ class Postural final : public core::TaskProgram {
   bool skip_busy_;
   LimbChoice choice_;
   MotionStage motion_;
-  std::string failure_;
+  std::optional<core::Failure> failure_;
   bool done_ = false;
 };
 

@@ -16,9 +16,9 @@
 // The complex programs (pickup, putdown, greet, vacuum) are state machines over these; see
 // complex.cc.
 //
-// Failure reasons start with a status: perception_miss, ik_failure, timeout, invalid_start,
-// invalid_goal, collision, tracking_error, grasp_failed, not_graspable, invalid_input,
-// coverage_short, invariant_false, precondition_false, chains_busy.
+// Programs fail with a core::Failure (taskmatrix/core/failure.h): a code (perception_miss,
+// ik_failure, planning_timeout, invalid_start, invalid_goal, collision, tracking_error,
+// grasp_failed, not_graspable, invalid_input, coverage_short, ...) and a detail.
 #pragma once
 
 #include "taskmatrix/core/task_program.h"

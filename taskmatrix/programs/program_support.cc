@@ -121,8 +121,8 @@ LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
   return {std::bernoulli_distribution(0.5)(rng)};
 }
 
-std::string plan_failure_reason(const core::PlanResult& plan) {
-  return std::string(core::to_string(plan.status)) + ": " + plan.message;
+core::Failure plan_failure(const core::PlanResult& plan) {
+  return core::Failure(core::failure_code(plan.status), plan.message);
 }
 
 std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
@@ -184,9 +184,9 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   return e;
 }
 
-std::string MotionStage::plan_to_configuration(core::ProgramContext& ctx,
-                                               const std::vector<std::string>& chains,
-                                               const std::vector<double>& goal) {
+std::optional<core::Failure> MotionStage::plan_to_configuration(
+    core::ProgramContext& ctx, const std::vector<std::string>& chains,
+    const std::vector<double>& goal) {
   for (const std::string& c : chains) {
     if (core::chain_kind(c) != "arm") continue;
     std::optional<Escape> escape = escape_motion(ctx, single_side({c}), 0.05);
@@ -201,13 +201,14 @@ std::string MotionStage::plan_to_configuration(core::ProgramContext& ctx,
       }
     }
     follow(ctx, escape->chains, std::move(escape->motion), escape->options);
-    return "";
+    return std::nullopt;
   }
   return plan_now(ctx, chains, goal);
 }
 
-std::string MotionStage::plan_now(core::ProgramContext& ctx, const std::vector<std::string>& chains,
-                                  const std::vector<double>& goal) {
+std::optional<core::Failure> MotionStage::plan_now(core::ProgramContext& ctx,
+                                                   const std::vector<std::string>& chains,
+                                                   const std::vector<double>& goal) {
   core::PlanOptions options = ctx.plan_options();
   options.seed = ctx.next_seed();
   options.may_touch = execution.may_touch;
@@ -252,42 +253,49 @@ std::vector<std::vector<double>> ArmMotion::solve(core::ProgramContext& ctx,
   return out;
 }
 
-std::string ArmMotion::reach_from_here(core::ProgramContext& ctx) {
+std::optional<core::Failure> ArmMotion::reach_from_here(core::ProgramContext& ctx) {
   std::vector<std::vector<std::string>> levels = {{arm_}};
   if (torso_) levels.push_back({"torso", arm_});
-  std::string plan_failure, why;
+  std::optional<core::Failure> last_plan_failure;
+  std::string why;
   int timeouts = 0;
   for (const std::vector<std::string>& chains : levels) {
     for (size_t k = 0; k < targets_.size(); ++k) {
       for (const std::vector<double>& q : solve(ctx, chains, k, why)) {
-        const std::string failure = motion_.plan_now(ctx, chains, q);
-        if (failure.empty()) {
+        std::optional<core::Failure> failure = motion_.plan_now(ctx, chains, q);
+        if (!failure) {
           reached_ = static_cast<int>(k);
-          return "";
+          return std::nullopt;
         }
-        if (failure.rfind("invalid_start", 0) == 0 || failure.rfind("invalid_input", 0) == 0) {
+        if (failure->code == core::FailureCode::kInvalidStart ||
+            failure->code == core::FailureCode::kInvalidInput) {
           return failure;
         }
-        plan_failure = failure;
         // A planner that ran out of time will not do better for the next pose of the same
         // region; one more try, then give up (bounded work).
-        if (failure.rfind("planning_timeout", 0) == 0 && ++timeouts >= 2) return failure;
+        if (failure->code == core::FailureCode::kPlanningTimeout && ++timeouts >= 2) {
+          return failure;
+        }
+        last_plan_failure = std::move(failure);
       }
     }
   }
-  if (!plan_failure.empty()) return plan_failure;
+  if (last_plan_failure) return last_plan_failure;
   std::string chains = arm_;
   if (torso_) chains += ", torso and " + arm_;
   char buf[200];
   std::snprintf(buf, sizeof buf, " (best: %.1f mm, %.1f deg off, %s)", best_miss_m_ * 1e3,
                 best_miss_rad_ * 180 / M_PI, best_miss_tag_.c_str());
-  return "ik_failure: " + frame_ + " reaches none of " + std::to_string(targets_.size()) +
-         " targets with " + chains + (std::isfinite(best_miss_m_) ? buf : " (" + why + ")");
+  return core::Failure(core::FailureCode::kIkFailure,
+                       frame_ + " reaches none of " + std::to_string(targets_.size()) +
+                           " targets with " + chains +
+                           (std::isfinite(best_miss_m_) ? buf : " (" + why + ")"));
 }
 
-std::string ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
-                             const std::string& frame, std::vector<ArmTarget> targets,
-                             const core::IkOptions& ik, bool torso, bool base) {
+std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
+                                              const std::string& frame,
+                                              std::vector<ArmTarget> targets,
+                                              const core::IkOptions& ik, bool torso, bool base) {
   arm_ = arm;
   frame_ = frame;
   targets_ = std::move(targets);
@@ -296,7 +304,9 @@ std::string ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
   base_ = base;
   reached_ = -1;
   best_miss_m_ = INFINITY;
-  if (targets_.empty()) return "invalid_input: no target for " + frame_;
+  if (targets_.empty()) {
+    return core::Failure(core::FailureCode::kInvalidInput, "no target for " + frame_);
+  }
   const std::string side = single_side({arm_});
   // attached_objects() returns a new vector: iterate one copy, never begin() and end() of two.
   const std::vector<std::string> attached = ctx.skills().attached_objects();
@@ -308,15 +318,16 @@ std::string ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
                                        escape->touched.end());
     motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
     phase_ = Phase::kEscaping;
-    return "";
+    return std::nullopt;
   }
   phase_ = Phase::kReaching;
-  const std::string failure = reach_from_here(ctx);
-  if (!base_ || failure.rfind("ik_failure", 0) != 0) return failure;
-  return step_over(ctx, failure);
+  std::optional<core::Failure> failure = reach_from_here(ctx);
+  if (!base_ || !failure || failure->code != core::FailureCode::kIkFailure) return failure;
+  return step_over(ctx, std::move(*failure));
 }
 
-std::string ArmMotion::step_over(core::ProgramContext& ctx, const std::string& failure) {
+std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
+                                                  core::Failure failure) {
   // A stance from which the arm reaches, found by IK over the whole body.
   core::Skillset& skills = ctx.skills();
   std::vector<std::string> body{"base"};
@@ -333,32 +344,35 @@ std::string ArmMotion::step_over(core::ProgramContext& ctx, const std::string& f
     std::copy(solution.begin(), solution.begin() + static_cast<long>(nb), stance_now.begin());
     if (skills.is_valid(body, stance_now)) {
       const std::vector<double> stance(solution.begin(), solution.begin() + static_cast<long>(nb));
-      const std::string moved = motion_.plan_now(ctx, {"base"}, stance);
-      if (!moved.empty()) return moved;
+      std::optional<core::Failure> moved = motion_.plan_now(ctx, {"base"}, stance);
+      if (moved) return moved;
       phase_ = Phase::kStepping;
       stance_target_ = static_cast<int>(k);
       stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
-      return "";
+      return std::nullopt;
     }
-    const std::string moved = motion_.plan_now(ctx, body, solution);
-    if (moved.empty()) reached_ = static_cast<int>(k);
+    std::optional<core::Failure> moved = motion_.plan_now(ctx, body, solution);
+    if (!moved) reached_ = static_cast<int>(k);
     return moved;
   }
-  return failure + "; stepping: no stance found (" + why + ")";
+  failure.detail += "; stepping: no stance found (" + why + ")";
+  return failure;
 }
 
-std::optional<std::string> ArmMotion::step(core::ProgramContext& ctx) {
-  const std::optional<std::string> result = motion_.step();
+std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
+  std::optional<Ended> result = motion_.step();
   if (!result) return result;
   if (phase_ == Phase::kEscaping) {
     phase_ = Phase::kReaching;
-    if (!result->empty()) return result;
-    std::string failure = reach_from_here(ctx);
-    if (base_ && failure.rfind("ik_failure", 0) == 0) failure = step_over(ctx, failure);
-    if (!failure.empty()) return failure;
+    if (*result) return result;
+    std::optional<core::Failure> failure = reach_from_here(ctx);
+    if (base_ && failure && failure->code == core::FailureCode::kIkFailure) {
+      failure = step_over(ctx, std::move(*failure));
+    }
+    if (failure) return Ended(std::move(failure));
     return std::nullopt;
   }
-  if (!result->empty() || phase_ != Phase::kStepping) return result;
+  if (*result || phase_ != Phase::kStepping) return result;
   phase_ = Phase::kReaching;
   // At the stance: the rest of the body as the whole-body solution had it, if the base got
   // close enough for that to still place the frame; else search again from here.
@@ -367,12 +381,13 @@ std::optional<std::string> ArmMotion::step(core::ProgramContext& ctx) {
   const ArmTarget& t = targets_[static_cast<size_t>(stance_target_)];
   const core::Pose at = ctx.skills().frame_pose_at(rest, stance_rest_, frame_);
   if ((at.position - t.pose.position).norm() <= 0.01 && ctx.skills().is_valid(rest, stance_rest_) &&
-      motion_.plan_now(ctx, rest, stance_rest_).empty()) {
+      !motion_.plan_now(ctx, rest, stance_rest_)) {
     reached_ = stance_target_;
     return std::nullopt;
   }
-  const std::string failure = reach_from_here(ctx);
-  if (!failure.empty()) return failure;
+  if (std::optional<core::Failure> failure = reach_from_here(ctx)) {
+    return Ended(std::move(failure));
+  }
   return std::nullopt;
 }
 
@@ -393,15 +408,16 @@ std::vector<std::string> head_claim(const core::ClaimContext& ctx, bool& base) {
   return {"head"};
 }
 
-std::string MotionStage::start_following(core::ProgramContext& ctx,
-                                         const std::vector<std::string>& chains,
-                                         std::shared_ptr<const core::PlanResult> plan) {
+std::optional<core::Failure> MotionStage::start_following(
+    core::ProgramContext& ctx, const std::vector<std::string>& chains,
+    std::shared_ptr<const core::PlanResult> plan) {
   plan_ = plan;
-  const std::string reason = plan->success() ? "" : plan_failure_reason(*plan);
-  ctx.emit(core::MessageType::kPlanningEnded, reason, plan);
-  if (!plan->success()) return reason;
+  std::optional<core::Failure> failure;
+  if (!plan->success()) failure = plan_failure(*plan);
+  ctx.emit(core::MessageType::kPlanningEnded, failure, plan);
+  if (failure) return failure;
   follow(ctx, chains, core::timed(ctx.skills().time_parameterize(chains, plan->path)), execution);
-  return "";
+  return std::nullopt;
 }
 
 void MotionStage::follow(core::ProgramContext& ctx, const std::vector<std::string>& chains,
@@ -409,18 +425,23 @@ void MotionStage::follow(core::ProgramContext& ctx, const std::vector<std::strin
   follower_.emplace(ctx.skills(), chains, std::move(motion), options);
 }
 
-std::optional<std::string> MotionStage::step() {
-  if (!follower_) return std::string("invalid_input: no motion to follow");
+std::optional<Ended> MotionStage::step() {
+  if (!follower_)
+    return Ended(core::Failure(core::FailureCode::kInvalidInput, "no motion to follow"));
   const std::optional<core::ExecutionReport> done = follower_->step();
   if (!done) return std::nullopt;
   follower_.reset();
-  const std::string outcome =
-      done->success() ? "" : std::string(core::to_string(done->status)) + ": " + done->message;
+  Ended outcome;
+  if (!done->success()) outcome = core::Failure(core::failure_code(done->status), done->message);
   if (core::ProgramContext* ctx = std::exchange(pending_ctx_, nullptr)) {
     // The escape ended: plan from here.
-    if (!outcome.empty()) return outcome + " (moving off what the arm touched)";
-    const std::string failure = plan_now(*ctx, pending_chains_, pending_goal_);
-    if (!failure.empty()) return failure;
+    if (outcome) {
+      outcome->detail += " (moving off what the arm touched)";
+      return outcome;
+    }
+    if (std::optional<core::Failure> failure = plan_now(*ctx, pending_chains_, pending_goal_)) {
+      return Ended(std::move(failure));
+    }
     return std::nullopt;
   }
   return outcome;

@@ -82,32 +82,37 @@ struct Escape {
 std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
                                     double distance_m, bool always = false);
 
+// How a motion ended: nullopt when it completed, else its failure.
+using Ended = std::optional<core::Failure>;
+
 // Plans a motion (emitting planning_started and planning_ended with the plan) and follows it
 // one control period per step() call. When an arm among the planned chains starts against
 // something (its hand around what it let go of, what it holds on the surface it rests on), the
 // stage first follows that arm's escape motion, then plans from there.
 class MotionStage {
  public:
-  // Each returns "" when following has started, else the failure reason "<status>: <why>".
-  std::string plan_to_configuration(core::ProgramContext& ctx,
-                                    const std::vector<std::string>& chains,
-                                    const std::vector<double>& goal);
+  // Each returns nullopt when following has started, else why it did not.
+  std::optional<core::Failure> plan_to_configuration(core::ProgramContext& ctx,
+                                                     const std::vector<std::string>& chains,
+                                                     const std::vector<double>& goal);
   // The same without the escape: plans from where the chains are now.
-  std::string plan_now(core::ProgramContext& ctx, const std::vector<std::string>& chains,
-                       const std::vector<double>& goal);
+  std::optional<core::Failure> plan_now(core::ProgramContext& ctx,
+                                        const std::vector<std::string>& chains,
+                                        const std::vector<double>& goal);
   // Follows without planning.
   void follow(core::ProgramContext& ctx, const std::vector<std::string>& chains,
               core::TimedMotion motion, const core::ExecutionOptions& options = {});
-  // nullopt while moving; "" once completed; else the failure reason.
-  std::optional<std::string> step();
+  // nullopt while moving; once ended, its failure (nullopt when it completed).
+  std::optional<Ended> step();
   const core::PlanResult* last_plan() const { return plan_.get(); }
   // How planned motions are followed (tolerance at the end, settling time, what they may touch;
   // the plans' start may touch that too).
   core::ExecutionOptions execution;
 
  private:
-  std::string start_following(core::ProgramContext& ctx, const std::vector<std::string>& chains,
-                              std::shared_ptr<const core::PlanResult> plan);
+  std::optional<core::Failure> start_following(core::ProgramContext& ctx,
+                                               const std::vector<std::string>& chains,
+                                               std::shared_ptr<const core::PlanResult> plan);
   std::shared_ptr<const core::PlanResult> plan_;
   std::optional<core::TrajectoryFollower> follower_;
   // A plan waiting for an escape motion to end.
@@ -134,20 +139,20 @@ struct ArmTarget {
 // something escapes first (escape_motion).
 class ArmMotion {
  public:
-  // "" when moving, else the failure reason.
-  std::string start(core::ProgramContext& ctx, const std::string& arm, const std::string& frame,
-                    std::vector<ArmTarget> targets, const core::IkOptions& ik, bool torso,
-                    bool base);
+  // nullopt when moving, else why it is not.
+  std::optional<core::Failure> start(core::ProgramContext& ctx, const std::string& arm,
+                                     const std::string& frame, std::vector<ArmTarget> targets,
+                                     const core::IkOptions& ik, bool torso, bool base);
   // As MotionStage::step.
-  std::optional<std::string> step(core::ProgramContext& ctx);
+  std::optional<Ended> step(core::ProgramContext& ctx);
   MotionStage& stage() { return motion_; }
   // The target being moved to (after start succeeded); -1 if none.
   int target_index() const { return reached_; }
 
  private:
   enum class Phase { kEscaping, kStepping, kReaching };
-  std::string reach_from_here(core::ProgramContext& ctx);
-  std::string step_over(core::ProgramContext& ctx, const std::string& failure);
+  std::optional<core::Failure> reach_from_here(core::ProgramContext& ctx);
+  std::optional<core::Failure> step_over(core::ProgramContext& ctx, core::Failure failure);
   // IK of `chains` for target k, keeping solutions within its free turn.
   std::vector<std::vector<double>> solve(core::ProgramContext& ctx,
                                          const std::vector<std::string>& chains, size_t k,
@@ -174,7 +179,7 @@ std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::str
 // The chains a head program claims: the head, and the base when allowed and free.
 std::vector<std::string> head_claim(const core::ClaimContext& ctx, bool& base);
 
-// "<status>: <message>" for a failed plan.
-std::string plan_failure_reason(const core::PlanResult& plan);
+// The failure of a failed plan: its status's code and its message.
+core::Failure plan_failure(const core::PlanResult& plan);
 
 }  // namespace taskmatrix::programs

@@ -45,13 +45,16 @@ class Reach final : public core::TaskProgram {
   void start(core::ProgramContext& ctx) override {
     const core::PerceivedObject* o = ctx.percepts().find(object_);
     if (!o) {
-      failure_ = "perception_miss: '" + object_ + "' is not in the perceptual model";
+      failure_ = core::Failure(core::FailureCode::kPerceptionMiss,
+                               "'" + object_ + "' is not in the perceptual model");
       return;
     }
     const std::vector<std::string>& failed = ctx.notes(failed_grasps_note(object_, side_));
     if (static_cast<int>(failed.size()) >= max_failures_) {
-      failure_ = "grasp_failed: " + std::to_string(failed.size()) + " grasps of '" + object_ +
-                 "' with the " + side_ + " hand did not hold (" + join(failed) + ")";
+      failure_ =
+          core::Failure(core::FailureCode::kGraspFailed,
+                        std::to_string(failed.size()) + " grasps of '" + object_ + "' with the " +
+                            side_ + " hand did not hold (" + join(failed) + ")");
       return;
     }
     // Already graspable: done, unless the grasp there is one that did not hold.
@@ -68,17 +71,21 @@ class Reach final : public core::TaskProgram {
     std::vector<GraspCandidate> all =
         grasp_candidates(*o, geometry, skills.frame_pose(hand->palm).position);
     if (all.empty()) {
-      failure_ = "not_graspable: the " + side_ + " hand (aperture " +
-                 std::to_string(static_cast<int>(std::lround(geometry.aperture_m * 1000))) +
-                 " mm) spans no grasp of '" + object_ + "'";
+      failure_ = core::Failure(
+          core::FailureCode::kNotGraspable,
+          "the " + side_ + " hand (aperture " +
+              std::to_string(static_cast<int>(std::lround(geometry.aperture_m * 1000))) +
+              " mm) spans no grasp of '" + object_ + "'");
       return;
     }
     for (const GraspCandidate& c : all) {
       if (std::find(failed.begin(), failed.end(), c.id) == failed.end()) candidates_.push_back(c);
     }
     if (candidates_.empty()) {
-      failure_ = "grasp_failed: " + std::to_string(failed.size()) + " grasps of '" + object_ +
-                 "' with the " + side_ + " hand did not hold (" + join(failed) + ")";
+      failure_ =
+          core::Failure(core::FailureCode::kGraspFailed,
+                        std::to_string(failed.size()) + " grasps of '" + object_ + "' with the " +
+                            side_ + " hand did not hold (" + join(failed) + ")");
       return;
     }
     std::vector<ArmTarget> targets;
@@ -98,19 +105,20 @@ class Reach final : public core::TaskProgram {
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
-    if (!failure_.empty()) return fail(failure_);
+    if (failure_) return fail(*failure_);
     if (done_) return core::ProgramState::kCompleted;
-    const std::optional<std::string> result = arm_motion_.step(ctx);
+    const std::optional<Ended> result = arm_motion_.step(ctx);
     if (!result) return core::ProgramState::kRunning;
-    if (!result->empty()) return fail(*result);
+    if (*result) return fail(**result);
     const int k = arm_motion_.target_index();
     if (k >= 0) {
       ctx.notes(reached_grasp_note(object_, side_)) = {
           candidates_[static_cast<size_t>(k) / std::size(kClearances)].id};
     }
     if (!core::graspable(object_, side_)->holds(ctx.world())) {
-      return fail("not_graspable: the " + side_ + " palm reached its target but '" + object_ +
-                  "' is not graspable from there (did it move?)");
+      return fail(core::Failure(core::FailureCode::kNotGraspable,
+                                "the " + side_ + " palm reached its target but '" + object_ +
+                                    "' is not graspable from there (did it move?)"));
     }
     return core::ProgramState::kCompleted;
   }
@@ -127,7 +135,7 @@ class Reach final : public core::TaskProgram {
   int max_failures_ = 3;
   std::vector<GraspCandidate> candidates_;
   ArmMotion arm_motion_;
-  std::string failure_;
+  std::optional<core::Failure> failure_;
   bool done_ = false;
 };
 

@@ -59,10 +59,10 @@ class Release final : public core::TaskProgram {
   }
 
   core::ProgramState step(core::ProgramContext&) override {
-    const std::optional<std::string> result = motion_.step();
+    const std::optional<Ended> result = motion_.step();
     if (!result) return core::ProgramState::kRunning;
     // Touching what was let go is expected; only tracking matters.
-    if (!result->empty() && result->rfind("collision", 0) != 0) return fail(*result);
+    if (*result && (*result)->code != core::FailureCode::kCollision) return fail(**result);
     return core::ProgramState::kCompleted;
   }
 

@@ -42,8 +42,9 @@ class Retreat final : public core::TaskProgram {
     if (part_ == "hand") {
       std::optional<Escape> escape = escape_motion(ctx, side_, distance_, /*always=*/true);
       if (!escape) {
-        failure_ = "ik_failure: the " + side_ + " arm cannot withdraw its hand " +
-                   std::to_string(distance_).substr(0, 4) + " m";
+        failure_ = core::Failure(core::FailureCode::kIkFailure,
+                                 "the " + side_ + " arm cannot withdraw its hand " +
+                                     std::to_string(distance_).substr(0, 4) + " m");
         return;
       }
       motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
@@ -54,8 +55,10 @@ class Retreat final : public core::TaskProgram {
     const Eigen::Vector2d at(base[0], base[1]);
     const core::PerceivedObject* from = away_from(ctx, at);
     if (!from) {
-      failure_ = from_.empty() ? "perception_miss: no surface is known"
-                               : "perception_miss: '" + from_ + "' is not in the perceptual model";
+      failure_ = from_.empty()
+                     ? core::Failure(core::FailureCode::kPerceptionMiss, "no surface is known")
+                     : core::Failure(core::FailureCode::kPerceptionMiss,
+                                     "'" + from_ + "' is not in the perceptual model");
       return;
     }
     const Eigen::Vector2d lo = from->box.min().head<2>(), hi = from->box.max().head<2>();
@@ -75,11 +78,11 @@ class Retreat final : public core::TaskProgram {
   }
 
   core::ProgramState step(core::ProgramContext&) override {
-    if (!failure_.empty()) return fail(failure_);
+    if (failure_) return fail(*failure_);
     if (done_) return core::ProgramState::kCompleted;
-    const std::optional<std::string> result = motion_.step();
+    const std::optional<Ended> result = motion_.step();
     if (!result) return core::ProgramState::kRunning;
-    if (!result->empty()) return fail(*result);
+    if (*result) return fail(**result);
     return core::ProgramState::kCompleted;
   }
 
@@ -101,7 +104,7 @@ class Retreat final : public core::TaskProgram {
   std::string part_, from_, side_;
   double distance_ = 0.2;
   MotionStage motion_;
-  std::string failure_;
+  std::optional<core::Failure> failure_;
   bool done_ = false;
 };
 

@@ -46,7 +46,7 @@ class Sweep final : public TaskProgram {
     }
     ctx.skills().command(chains_, q);
     if (s < 1.0) return ProgramState::kRunning;
-    if (outcome_ == "failed") return fail("test_failure: asked to fail");
+    if (outcome_ == "failed") return fail(FailureCode::kCollision, "asked to fail");
     return ProgramState::kCompleted;
   }
   ConditionPtr precondition_;
@@ -155,7 +155,8 @@ TEST_F(ExecutiveTest, AProgramAskingForAHeldChainIsRefusedAndTheHolderContinues)
   EXPECT_FALSE(exec_->running(b));
   ASSERT_NE(exec_->outcome(b), nullptr);
   EXPECT_EQ(exec_->outcome(b)->type, MessageType::kFailed);
-  EXPECT_EQ(exec_->outcome(b)->reason, "chains_busy: left_arm held by sweep#" + std::to_string(a));
+  EXPECT_EQ(exec_->outcome(b)->reason(),
+            "chains_busy: left_arm held by sweep#" + std::to_string(a));
   EXPECT_EQ(exec_->holder_of_chain("head"), -1);  // nothing of the refused program is held
   EXPECT_TRUE(exec_->running(a));
   EXPECT_EQ(exec_->holder_of_chain("left_arm"), a);
@@ -184,7 +185,7 @@ TEST_F(ExecutiveTest, APreconditionThatIsFalseFailsTheProgramBeforeItRuns) {
   const int a = exec_->start("wait_for_wave", {});
   ASSERT_NE(exec_->outcome(a), nullptr);
   // The reason says which joint is how far from the posture.
-  const std::string reason = exec_->outcome(a)->reason;
+  const std::string reason = exec_->outcome(a)->reason();
   EXPECT_EQ(reason.rfind("precondition_false: postural(wave_start): joint ", 0), 0u) << reason;
   EXPECT_NE(reason.find(" from the posture (tolerance "), std::string::npos) << reason;
   EXPECT_EQ(exec_->holder_of_chain("head"), -1);
@@ -213,7 +214,7 @@ TEST_F(ExecutiveTest, BadParametersAreRejectedBeforeAnythingRuns) {
   // An unknown chain is found when the program asks for it: it fails, nothing is held.
   const int a = exec_->start("sweep", {{"chains", "[tail]"}});
   EXPECT_EQ(exec_->outcome(a)->type, MessageType::kFailed);
-  EXPECT_NE(exec_->outcome(a)->reason.find("invalid_input: "), std::string::npos);
+  EXPECT_NE(exec_->outcome(a)->reason().find("invalid_input: "), std::string::npos);
 }
 
 TEST_F(ExecutiveTest, AProgramThatThrowsFailsWithProgramErrorAndTheOthersRunOn) {
@@ -223,7 +224,7 @@ TEST_F(ExecutiveTest, AProgramThatThrowsFailsWithProgramErrorAndTheOthersRunOn) 
   EXPECT_TRUE(exec_->run(5.0));
   ASSERT_NE(exec_->outcome(bad), nullptr);
   EXPECT_EQ(exec_->outcome(bad)->type, MessageType::kFailed);
-  EXPECT_EQ(exec_->outcome(bad)->reason, "program_error: thrower: the test program threw");
+  EXPECT_EQ(exec_->outcome(bad)->reason(), "program_error: thrower: the test program threw");
   EXPECT_EQ(exec_->holder_of_chain("head"), -1);
   EXPECT_EQ(exec_->outcome(good)->type, MessageType::kCompleted);
 }
@@ -237,7 +238,7 @@ TEST_F(ExecutiveTest, HaltingAChainAHairPastItsLimitHoldsItAtTheLimit) {
   for (double& v : past) v += 1e-4;
   skills_->place({"head"}, past);
   exec_->halt(a);
-  EXPECT_EQ(exec_->outcome(a)->type, MessageType::kHalted) << exec_->outcome(a)->reason;
+  EXPECT_EQ(exec_->outcome(a)->type, MessageType::kHalted) << exec_->outcome(a)->reason();
   EXPECT_EQ(skills_->clamped_configuration({"head"}), skills_->chain("head").upper);
 }
 
@@ -282,9 +283,10 @@ TEST_F(ExecutiveTest, AFailureTakesTheFailureTransitionAndEndsInAFailureState) {
     if (msg.program == "sweep" && msg.type == MessageType::kStarted) sweeps.push_back(msg.sender);
   }
   ASSERT_EQ(sweeps.size(), 3u);
-  EXPECT_EQ(exec_->outcome(sweeps[1])->reason, "test_failure: asked to fail");
+  EXPECT_EQ(exec_->outcome(sweeps[1])->reason(), "collision: asked to fail");
   EXPECT_EQ(exec_->outcome(sweeps[2])->type, MessageType::kCompleted);
-  EXPECT_EQ(exec_->outcome(m)->reason, "final state gave_up");
+  EXPECT_EQ(exec_->outcome(m)->reason(),
+            "failure_state: final state gave_up, which is not a success");
 }
 
 TEST_F(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) {
@@ -293,8 +295,8 @@ TEST_F(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) 
   register_machine(m, registry_);
   const int id = exec_->start("two_step", {{"arm", "[left_arm]"}});
   EXPECT_TRUE(exec_->run(10.0));
-  EXPECT_EQ(exec_->outcome(id)->reason, "test_failure: asked to fail");
-  EXPECT_EQ(exec_->outcome(id)->path, "sweep(second)");
+  EXPECT_EQ(exec_->outcome(id)->reason(), "collision: asked to fail");
+  EXPECT_EQ(exec_->outcome(id)->failure->path, "sweep(second)");
 }
 
 TEST_F(ExecutiveTest, AnInvariantThatStopsHoldingSaysWhatWasMeasured) {
@@ -306,10 +308,11 @@ TEST_F(ExecutiveTest, AnInvariantThatStopsHoldingSaysWhatWasMeasured) {
   EXPECT_TRUE(exec_->run(10.0));
   const Message& failed = *exec_->outcome(id);
   EXPECT_EQ(failed.type, MessageType::kFailed);
-  EXPECT_EQ(failed.reason.rfind("invariant_false: postural(rest): joint ", 0), 0u) << failed.reason;
-  EXPECT_NE(failed.reason.find(" from the posture (tolerance "), std::string::npos)
-      << failed.reason;
-  EXPECT_EQ(failed.path, "sweep(first)");
+  EXPECT_EQ(failed.reason().rfind("invariant_false: postural(rest): joint ", 0), 0u)
+      << failed.reason();
+  EXPECT_NE(failed.reason().find(" from the posture (tolerance "), std::string::npos)
+      << failed.reason();
+  EXPECT_EQ(failed.failure->path, "sweep(first)");
 }
 
 TEST_F(ExecutiveTest, AFailureInANestedMachineNamesThePathToTheStateThatFailed) {
@@ -327,12 +330,15 @@ TEST_F(ExecutiveTest, AFailureInANestedMachineNamesThePathToTheStateThatFailed) 
   EXPECT_TRUE(exec_->run(10.0));
   const Message& failed = *exec_->outcome(id);
   EXPECT_EQ(failed.type, MessageType::kFailed);
-  EXPECT_EQ(failed.reason, "test_failure: asked to fail");
-  EXPECT_EQ(failed.path, "two_step(inner) > sweep(second)");
-  const std::string text = failure_text("outer", failed);
-  EXPECT_EQ(text, "outer > two_step(inner) > sweep(second): test_failure: asked to fail");
-  EXPECT_EQ(failure_status(text), "test_failure");
-  EXPECT_EQ(failure_status("ik_failure: no pose: 3 tried"), "ik_failure");
+  ASSERT_TRUE(failed.failure.has_value());
+  EXPECT_EQ(failed.failure->code, FailureCode::kCollision);
+  EXPECT_EQ(failed.reason(), "collision: asked to fail");
+  EXPECT_EQ(failed.failure->path, "two_step(inner) > sweep(second)");
+  EXPECT_EQ(reported_by("outer", *failed.failure).text(),
+            "outer > two_step(inner) > sweep(second): collision: asked to fail");
+  // A failure of the program itself has no path: its text is the reason.
+  EXPECT_EQ(reported_by("outer", Failure(FailureCode::kIkFailure, "no pose")).text(),
+            "ik_failure: no pose");
 }
 
 TEST_F(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {
@@ -348,7 +354,7 @@ TEST_F(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {
 
   const int id = exec_->start("outer", {});
   EXPECT_TRUE(exec_->run(10.0));
-  EXPECT_EQ(exec_->outcome(id)->type, MessageType::kCompleted) << exec_->outcome(id)->reason;
+  EXPECT_EQ(exec_->outcome(id)->type, MessageType::kCompleted) << exec_->outcome(id)->reason();
   // The concurrent torso program ran alongside and was stopped when the machine ended.
   EXPECT_EQ(exec_->holder_of_chain("torso"), -1);
   bool look_halted = false;

@@ -87,9 +87,10 @@ TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
   s.execution = "kinematic";
   const TrialResult kinematic =
       run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, options);
-  EXPECT_TRUE(physics.success) << physics.status << ": " << physics.failure_reason;
-  EXPECT_TRUE(kinematic.success) << kinematic.status << ": " << kinematic.failure_reason;
-  EXPECT_EQ(physics.status, kinematic.status);
+  EXPECT_TRUE(physics.success) << trial_status(physics) << ": " << trial_failure_reason(physics);
+  EXPECT_TRUE(kinematic.success) << trial_status(kinematic) << ": "
+                                 << trial_failure_reason(kinematic);
+  EXPECT_EQ(trial_status(physics), trial_status(kinematic));
 
   // The same measures, all measured.
   for (const TrialResult* r : {&physics, &kinematic}) {

@@ -99,8 +99,8 @@ TEST_P(ProgramScenarioTest, SucceedsInTheDefaultLayout) {
   const TrialResult r =
       run_trial(s, test::scene(c.pair.robot, c.pair.environment), s.layout_seed, s.seed, registry(),
                 renders(c.program + "_" + test::pair_name(c.pair)));
-  EXPECT_TRUE(r.success) << r.status << ": " << r.failure_reason;
-  EXPECT_EQ(r.status, "success");
+  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  EXPECT_EQ(trial_status(r), "success");
   EXPECT_GT(r.duration_s, 0.0);
 }
 
@@ -118,7 +118,7 @@ TEST_P(ProgramBehaviourTest, GreetsAWalkingVisitorWhileTrackingThem) {
                 registry(), [&](const std::string& moment, const mujoco::MujocoSkillset& skills) {
                   if (moment == "end") visitor_y_at_end = skills.frame_pose("visitor").position.y();
                 });
-  ASSERT_TRUE(r.success) << r.failure_reason;
+  ASSERT_TRUE(r.success) << trial_failure_reason(r);
   // The visitor walked (it starts at y = -1.0 on its path), and the wave was played.
   EXPECT_GT(std::abs(visitor_y_at_end + 1.0), 0.5);
   EXPECT_TRUE(std::any_of(r.log.begin(), r.log.end(), [](const core::Message& m) {
@@ -143,7 +143,7 @@ TEST_P(ProgramBehaviourTest, VacuumRemovesEveryFlakeOfDebris) {
                 registry(), [&](const std::string& moment, const mujoco::MujocoSkillset& skills) {
                   if (moment == "end") removed = skills.removed_debris().size();
                 });
-  ASSERT_TRUE(r.success) << r.failure_reason;
+  ASSERT_TRUE(r.success) << trial_failure_reason(r);
   EXPECT_EQ(removed, 5u);
   // One position per flake at most (a pass may take two flakes at once).
   const auto positions = std::count_if(r.log.begin(), r.log.end(), [](const core::Message& m) {
@@ -162,8 +162,10 @@ TEST_P(ProgramBehaviourTest, PickupOutOfReachFailsWithTheReason) {
   const TrialResult r = run_trial(s, test::scene(GetParam().robot, GetParam().environment),
                                   s.layout_seed, s.seed, registry());
   EXPECT_FALSE(r.success);
-  EXPECT_EQ(r.status, "ik_failure") << r.failure_reason;
-  EXPECT_NE(r.failure_reason.find("reaches none of"), std::string::npos) << r.failure_reason;
+  ASSERT_TRUE(r.failure.has_value());
+  EXPECT_EQ(r.failure->code, core::FailureCode::kIkFailure) << trial_failure_reason(r);
+  EXPECT_NE(trial_failure_reason(r).find("reaches none of"), std::string::npos)
+      << trial_failure_reason(r);
   EXPECT_LT(r.duration_s, 1.0);  // it gave up at once, and nothing was left running
 }
 
@@ -184,9 +186,11 @@ TEST_P(ProgramBehaviourTest, AFailureInsideAMachineNamesTheStatesItFailedIn) {
   const TrialResult r = run_trial(s, test::scene(GetParam().robot, GetParam().environment),
                                   s.layout_seed, s.seed, programs);
   // A person is no grasp for a hand: reach refuses it before any IK.
-  EXPECT_EQ(r.status, "not_graspable") << r.failure_reason;
-  EXPECT_EQ(r.failure_reason.rfind("fetch > pickup(approach) > reach: not_graspable: ", 0), 0u)
-      << r.failure_reason;
+  ASSERT_TRUE(r.failure.has_value());
+  EXPECT_EQ(r.failure->code, core::FailureCode::kNotGraspable) << trial_failure_reason(r);
+  EXPECT_EQ(trial_failure_reason(r).rfind("fetch > pickup(approach) > reach: not_graspable: ", 0),
+            0u)
+      << trial_failure_reason(r);
   // The machine's failed event carries the same path.
   const auto failed = std::find_if(r.events.begin(), r.events.end(), [](const TrialEvent& e) {
     return e.program == "fetch" && e.type == "failed";

@@ -500,7 +500,8 @@ TEST_F(Robustness, AHugeExploreRegionFailsItsTrialInsteadOfExhaustingMemory) {
                                   "[kitchen]\ntime_limit_s: 5\n");
     const Scenario scenario = load_scenario(s, test::catalog(), registry);
     const TrialResult r = run_trial(scenario, test::scene("minibot", "kitchen"), 1, 1, registry);
-    EXPECT_EQ(r.status, "invalid_input") << r.failure_reason;
+    ASSERT_TRUE(r.failure.has_value());
+    EXPECT_EQ(r.failure->code, core::FailureCode::kInvalidInput) << trial_failure_reason(r);
   }
 }
 

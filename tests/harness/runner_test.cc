@@ -22,6 +22,7 @@
 #include "harness/trajectory_file.h"
 #include "harness/trial.h"
 #include "harness/trial_record.h"
+#include "harness/trial_schema.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"
@@ -159,6 +160,15 @@ TEST_F(Runner, ResultsAreTheSameForAnyNumberOfJobsAndFromATrialIdAlone) {
                             "peak_memory_mb",
                             "trajectory"}) {
       EXPECT_TRUE(t.contains(key)) << id << " lacks " << key;
+    }
+    // The record holds the schema's fields (harness/trial_schema.h), and no other.
+    for (const TrialField& f : kTrialFields) {
+      EXPECT_TRUE(t.contains(std::string(f.name))) << id << " lacks schema field " << f.name;
+    }
+    for (const auto& [key, value] : t.items()) {
+      EXPECT_TRUE(std::any_of(kTrialFields.begin(), kTrialFields.end(),
+                              [&](const TrialField& f) { return f.name == key; }))
+          << id << ": field " << key << " is not in the trial schema";
     }
     if (t["success"].get<bool>()) {
       EXPECT_GT(t["plan_calls"].get<int>(), 0);
@@ -417,7 +427,7 @@ TEST_F(Runner, RecordedTrajectoriesReplayTheTrial) {
         }
       },
       options);
-  ASSERT_TRUE(r.success) << r.failure_reason;
+  ASSERT_TRUE(r.success) << trial_failure_reason(r);
   ASSERT_EQ(r.removed_debris.size(), 5u);
   // 25 frames per simulated second, the last at the end of the trial.
   EXPECT_NEAR(static_cast<double>(r.recording.frames()), r.sim_time_s * 25, 3.0);

@@ -99,7 +99,7 @@ class PrimitivesTest : public ::testing::TestWithParam<test::RobotEnv> {
 TEST_P(PrimitivesTest, ReachGraspReleaseTheCup) {
   ASSERT_FALSE(holds(core::graspable("cup")));
   const core::Message reach = run("reach", {{"object", "cup"}});
-  ASSERT_EQ(reach.type, MessageType::kCompleted) << reach.reason;
+  ASSERT_EQ(reach.type, MessageType::kCompleted) << reach.reason();
   EXPECT_TRUE(holds(core::graspable("cup")));
   snapshot("reached");
   // The planning messages carry the plan; the last one is the plan executed.
@@ -113,14 +113,14 @@ TEST_P(PrimitivesTest, ReachGraspReleaseTheCup) {
   EXPECT_GT(ended->plan->collision_checks, 0);
 
   const core::Message grasp = run("grasp", {{"object", "cup"}});
-  ASSERT_EQ(grasp.type, MessageType::kCompleted) << grasp.reason;
+  ASSERT_EQ(grasp.type, MessageType::kCompleted) << grasp.reason();
   EXPECT_TRUE(holds(core::grasping("cup")));
   snapshot("grasped");
   const std::string hand = skills_->holder_of("cup");
   ASSERT_FALSE(hand.empty());
 
   const core::Message release = run("release", {{"object", "cup"}});
-  ASSERT_EQ(release.type, MessageType::kCompleted) << release.reason;
+  ASSERT_EQ(release.type, MessageType::kCompleted) << release.reason();
   EXPECT_TRUE(skills_->holder_of("cup").empty());
   const std::vector<double> rest = skills_->posture("rest").at(hand + "_hand");
   EXPECT_LE(max_difference(skills_->configuration({hand + "_hand"}), rest), 0.05);
@@ -128,22 +128,22 @@ TEST_P(PrimitivesTest, ReachGraspReleaseTheCup) {
 
 TEST_P(PrimitivesTest, PosturalAndCannedMotions) {
   const core::Message wave_start = run("postural", {{"posture", "wave_start"}});
-  ASSERT_EQ(wave_start.type, MessageType::kCompleted) << wave_start.reason;
+  ASSERT_EQ(wave_start.type, MessageType::kCompleted) << wave_start.reason();
   snapshot("wave_start");
   const core::Message wave = run("canned", {{"motion", "wave"}});
-  ASSERT_EQ(wave.type, MessageType::kCompleted) << wave.reason;
+  ASSERT_EQ(wave.type, MessageType::kCompleted) << wave.reason();
   const core::Message rest = run("postural", {{"posture", "rest"}});
-  ASSERT_EQ(rest.type, MessageType::kCompleted) << rest.reason;
+  ASSERT_EQ(rest.type, MessageType::kCompleted) << rest.reason();
   EXPECT_TRUE(holds(core::postural("rest")));
   const core::Message bow = run("canned", {{"motion", "bow"}});
-  ASSERT_EQ(bow.type, MessageType::kCompleted) << bow.reason;
+  ASSERT_EQ(bow.type, MessageType::kCompleted) << bow.reason();
 }
 
 TEST_P(PrimitivesTest, FailuresNameTheirReason) {
   auto reason = [&](const std::string& program, const core::RawParams& params) {
     const core::Message m = run(program, params);
     EXPECT_EQ(m.type, MessageType::kFailed) << program;
-    return m.reason;
+    return m.reason();
   };
   EXPECT_EQ(reason("reach", {{"object", "teapot"}}),
             "perception_miss: 'teapot' is not in the perceptual model");
@@ -183,14 +183,15 @@ TEST_P(PrimitivesTest, FixateFromAHeadAHairPastItsLimitsRunsAndHalts) {
   };
   push_past_limits();
   const core::Message timed = run("fixate", {{"object", "cup"}, {"duration", "0.2"}});
-  EXPECT_EQ(timed.type, MessageType::kCompleted) << timed.reason;
+  EXPECT_EQ(timed.type, MessageType::kCompleted) << timed.reason();
   // Halted while the head sits past its limits: it holds at them, nothing fails.
   const int id = executive_->start("fixate", {{"object", "cup"}});
   for (int k = 0; k < 3; ++k) executive_->tick();
   push_past_limits();
   executive_->halt(id);
   ASSERT_NE(executive_->outcome(id), nullptr);
-  EXPECT_EQ(executive_->outcome(id)->type, MessageType::kHalted) << executive_->outcome(id)->reason;
+  EXPECT_EQ(executive_->outcome(id)->type, MessageType::kHalted)
+      << executive_->outcome(id)->reason();
 }
 
 TEST_P(PrimitivesTest, APostureOrMotionInsideAnObstacleIsAnInvalidGoal) {
@@ -217,20 +218,20 @@ TEST_P(PrimitivesTest, APostureOrMotionInsideAnObstacleIsAnInvalidGoal) {
   skills_->apply_layout(layout);
   make_executive(1);
   const core::Message postural = run("postural", {{"posture", "wave_start"}, {"side", "as_named"}});
-  EXPECT_EQ(postural.reason.rfind("invalid_goal: ", 0), 0u) << postural.reason;
+  EXPECT_EQ(postural.reason().rfind("invalid_goal: ", 0), 0u) << postural.reason();
   const core::Message canned = run("canned", {{"motion", "wave"}, {"side", "as_named"}});
-  EXPECT_EQ(canned.reason.rfind("invalid_goal: ", 0), 0u) << canned.reason;
+  EXPECT_EQ(canned.reason().rfind("invalid_goal: ", 0), 0u) << canned.reason();
   // The other arm is free to take the mirrored posture.
   const core::Message mirrored_ok =
       run("postural", {{"posture", "wave_start"}, {"side", side == "left" ? "right" : "left"}});
-  EXPECT_EQ(mirrored_ok.type, MessageType::kCompleted) << mirrored_ok.reason;
+  EXPECT_EQ(mirrored_ok.type, MessageType::kCompleted) << mirrored_ok.reason();
 }
 
 TEST_P(PrimitivesTest, ReachExitsEarlyWhenTheObjectIsAlreadyGraspable) {
   ASSERT_EQ(run("reach", {{"object", "box"}}).type, MessageType::kCompleted);
   const size_t before = messages_of("reach").size();
   const core::Message again = run("reach", {{"object", "box"}});
-  EXPECT_EQ(again.type, MessageType::kCompleted) << again.reason;
+  EXPECT_EQ(again.type, MessageType::kCompleted) << again.reason();
   const std::vector<core::Message> msgs = messages_of("reach");
   ASSERT_EQ(msgs.size(), before + 2) << "started and completed only, no planning";
   EXPECT_EQ(msgs[before].type, MessageType::kStarted);
@@ -257,7 +258,7 @@ TEST_P(PrimitivesTest, SingleLimbPosturesMirrorByTheDocumentedRule) {
   EXPECT_EQ(executive_->holder_of_chain(other), id);
   executive_->run(20.0);
   ASSERT_EQ(executive_->outcome(id)->type, MessageType::kCompleted)
-      << executive_->outcome(id)->reason;
+      << executive_->outcome(id)->reason();
   const ChainValues mirrored_goal = mirrored(*skills_, posture_values(*skills_, "wave_start", {}));
   EXPECT_LE(max_difference(skills_->configuration(mirrored_goal.chains), mirrored_goal.values),
             0.05);
@@ -307,7 +308,7 @@ TEST_P(PrimitivesTest, InSensorModeAnObjectNeverSeenIsUnknownToPrograms) {
   make_executive(1);
   EXPECT_FALSE(executive_->percepts().knows("obstacle_0"));
   EXPECT_TRUE(executive_->percepts().knows("cup"));
-  EXPECT_EQ(run("reach", {{"object", "obstacle_0"}}).reason,
+  EXPECT_EQ(run("reach", {{"object", "obstacle_0"}}).reason(),
             "perception_miss: 'obstacle_0' is not in the perceptual model");
   // The cup, which the head sees, is reached as in ground truth.
   EXPECT_EQ(run("reach", {{"object", "cup"}}).type, MessageType::kCompleted);
