@@ -1,8 +1,9 @@
 // The scenario runner's cost, on a fixed 16-trial suite (bench/runner_suite.yaml), in the
 // same run, in each execution mode:
-//   BM_RunSuite/jobs:N/kinematic:K   taskmatrix run with N worker processes, every scenario's
-//                        execution mode replaced (K = 0: physics, 1: kinematic), trial files,
-//                        summaries, OMPL log and trajectories written as in a user's run.
+//   BM_RunSuite/jobs:N/mode:M   taskmatrix run with N worker processes, every scenario's
+//                        execution mode replaced (M = 0: physics_unpruned, every contact
+//                        computed as before contact pruning; 1: physics; 2: kinematic), trial
+//                        files, summaries, OMPL log and trajectories written as in a user's run.
 //                        Counters:
 //     cpu_s_per_trial     CPU seconds (user + system) of the run's worker processes per finished
 //                         trial: the cost of a trial, whatever else the machine runs
@@ -64,7 +65,8 @@ void BM_RunSuite(benchmark::State& state) {
       std::filesystem::path(TASKMATRIX_BENCH_ROOT) / "bench" / "runner_suite.yaml";
   options.out = out;
   options.jobs = static_cast<int>(state.range(0));
-  options.overrides.execution = state.range(1) ? "kinematic" : "physics";
+  constexpr const char* kModes[] = {"physics_unpruned", "physics", "kinematic"};
+  options.overrides.execution = kModes[state.range(1)];
   options.progress = harness::RunJobOptions::Progress::kOff;
   double trials = 0, seconds = 0, cpu = 0, wall = 0, overhead = 0, work = 0, ik = 0;
   double sim = 0, stepping = 0, contacts = 0, passes = 0, succeeded = 0;
@@ -106,11 +108,12 @@ void BM_RunSuite(benchmark::State& state) {
   state.counters["succeeded"] = succeeded / n;
 }
 BENCHMARK(BM_RunSuite)
-    ->ArgNames({"jobs", "kinematic"})
+    ->ArgNames({"jobs", "mode"})
     ->Args({1, 0})
     ->Args({1, 1})
-    ->Args({2, 0})
+    ->Args({1, 2})
     ->Args({2, 1})
+    ->Args({2, 2})
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();

@@ -273,8 +273,8 @@ int main(int argc, char** argv) {
   run->add_option("--planners", planners_list,
                   "planners, comma separated (replaces the scenario's)");
   run->add_option("--execution", run_options.overrides.execution,
-                  "physics or kinematic (replaces the scenario's)")
-      ->check(CLI::IsMember({"physics", "kinematic"}));
+                  "physics, kinematic or physics_unpruned (replaces the scenario's)")
+      ->check(CLI::IsMember({"physics", "kinematic", "physics_unpruned"}));
   run->add_flag("--resume", run_options.resume,
                 "keep the trials already in the run directory, run the rest");
   CLI::Option* only_option = run->add_option("--only", run_options.only,

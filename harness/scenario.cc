@@ -14,6 +14,10 @@
 
 namespace taskmatrix::harness {
 
+bool is_execution_mode(const std::string& name) {
+  return name == "physics" || name == "kinematic" || name == "physics_unpruned";
+}
+
 namespace {
 
 // Scalars as text, lists as "[a, b]", for the program's own parameter parsing.
@@ -197,8 +201,8 @@ double read_wall_limit(const io::YamlNode& node) {
 
 std::string read_execution(const io::YamlNode& node) {
   const std::string v = node.as_string();
-  if (v != "physics" && v != "kinematic")
-    node.fail("must be physics or kinematic, not '" + v + "'");
+  if (!is_execution_mode(v))
+    node.fail("must be physics, kinematic or physics_unpruned, not '" + v + "'");
   return v;
 }
 
@@ -385,10 +389,10 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
 }
 
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
-  if (!overrides.execution.empty() && overrides.execution != "physics" &&
-      overrides.execution != "kinematic") {
-    throw core::InputError("--execution", "",
-                           "must be physics or kinematic, not '" + overrides.execution + "'");
+  if (!overrides.execution.empty() && !is_execution_mode(overrides.execution)) {
+    throw core::InputError(
+        "--execution", "",
+        "must be physics, kinematic or physics_unpruned, not '" + overrides.execution + "'");
   }
   std::vector<PlannerConfig> planners;
   for (const std::string& name : overrides.planners) {

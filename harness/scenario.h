@@ -43,8 +43,10 @@ struct Scenario {
   std::vector<ProgramCall> setup;
   std::vector<std::string> robots, environments;
   std::string perception = "ground_truth";
-  // How motion is executed: "physics" (simulated dynamics) or "kinematic" (the robot is set to
-  // its commanded configurations; mujoco_skillset.h).
+  // How motion is executed: "physics" (simulated dynamics, contacts that cannot matter pruned;
+  // contact_pruning.h), "kinematic" (the robot is set to its commanded configurations;
+  // mujoco_skillset.h) or "physics_unpruned" (physics computing every contact, the reference
+  // that pruning is measured and checked against).
   std::string execution = "physics";
   core::ObstacleOptions obstacles;
   core::VariationOptions variation;      // objects:, surfaces:, robot_start:
@@ -93,13 +95,16 @@ struct RunPlan {
 RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& catalog,
                       core::ProgramRegistry& registry);
 
+// "physics", "kinematic" or "physics_unpruned".
+bool is_execution_mode(const std::string& name);
+
 // Overrides from the command line (--trials, --seed, --planners); each applies to every
 // scenario. Throws core::InputError naming the option for an unknown planner.
 struct RunOverrides {
   int trials = 0;                     // 0: keep
   std::uint32_t seed = 0;             // 0: keep
   std::vector<std::string> planners;  // empty: keep
-  std::string execution;              // empty: keep; else "physics" or "kinematic"
+  std::string execution;              // empty: keep; else an execution mode
   // Empty: keep. Names are checked when the scenes are loaded (taskmatrix check-robot).
   std::vector<std::string> robots, environments;
 };

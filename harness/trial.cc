@@ -108,6 +108,7 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
   mujoco::SimulationOptions simulation;
   simulation.execution = scenario.execution == "kinematic" ? mujoco::ExecutionMode::kKinematic
                                                            : mujoco::ExecutionMode::kPhysics;
+  if (scenario.execution == "physics_unpruned") simulation.pruning = {false, false};
   mujoco::MujocoSkillset skills(std::move(scene), simulation);
   TrialResult result;
   result.layout = trial_options.layout ? *trial_options.layout

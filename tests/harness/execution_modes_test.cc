@@ -121,6 +121,30 @@ TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
   RecordProperty("plans_from_another_robot_configuration", robot_differs);
 }
 
+// physics_unpruned computes every contact: the reference that contact pruning is checked and
+// timed against (the runner benchmark). On a trial whose hand touches nothing it keeps the
+// outcome and the plans, with more contacts per pass than pruned physics.
+TEST(UnprunedPhysics, KeepsTheOutcomeAndComputesMoreContacts) {
+  Scenario s = load_scenario(test::catalog().root() / "scenarios" / "programs" / "reach.yaml",
+                             test::catalog(), registry());
+  const auto scene = test::scene("minibot", "kitchen");
+  s.execution = "physics";
+  const TrialResult pruned = run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, {});
+  s.execution = "physics_unpruned";
+  const TrialResult unpruned = run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, {});
+  EXPECT_TRUE(pruned.success) << pruned.failure_reason;
+  EXPECT_EQ(pruned.status, unpruned.status) << unpruned.failure_reason;
+  EXPECT_EQ(pruned.work.plans.size(), unpruned.work.plans.size());
+  ASSERT_GT(pruned.work.contact_passes, 0);
+  ASSERT_GT(unpruned.work.contact_passes, 0);
+  const double per_pass_pruned =
+      static_cast<double>(pruned.work.contacts) / static_cast<double>(pruned.work.contact_passes);
+  const double per_pass_unpruned = static_cast<double>(unpruned.work.contacts) /
+                                   static_cast<double>(unpruned.work.contact_passes);
+  EXPECT_GT(per_pass_unpruned, 1.5 * per_pass_pruned)
+      << per_pass_unpruned << " against " << per_pass_pruned << " contacts per step";
+}
+
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   return info.param.program + "_" + info.param.robot;
 }

@@ -167,9 +167,13 @@ TEST_F(ScenarioFiles, ExecutionModeIsCheckedAndOverridden) {
   EXPECT_EQ(load_run_plan(dir_ / "k.yaml", test::catalog(), registry_).scenarios[0].execution,
             "kinematic");
   const std::string bad = error_of(r + "execution: kinetic\n");
-  EXPECT_NE(bad.find("bad.yaml:5: execution: must be physics or kinematic, not 'kinetic'"),
+  EXPECT_NE(bad.find("bad.yaml:5: execution: must be physics, kinematic or physics_unpruned, "
+                     "not 'kinetic'"),
             std::string::npos)
       << bad;
+  write("u.yaml", r + "execution: physics_unpruned\n");
+  EXPECT_EQ(load_run_plan(dir_ / "u.yaml", test::catalog(), registry_).scenarios[0].execution,
+            "physics_unpruned");
   // A suite's key replaces every scenario's; the command line's replaces the suite's.
   RunPlan plan = load_run_plan(write("suite.yaml",
                                      "suite: s\nscenarios: [p.yaml, k.yaml]\n"
