@@ -1,8 +1,8 @@
 // taskmatrix bench-compare BASE NEW
 #include <iostream>
 
-#include "harness/bench_compare.h"
 #include "harness/cli/verb.h"
+#include "harness/compare/bench_compare.h"
 
 namespace taskmatrix::harness::cli {
 namespace {

@@ -1,8 +1,8 @@
 // taskmatrix check-robot NAME [--env ENV] [--no-run]
 #include <iostream>
 
-#include "harness/check_robot.h"
 #include "harness/cli/verb.h"
+#include "harness/run/check_robot.h"
 
 namespace taskmatrix::harness::cli {
 namespace {

@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "harness/cli/verb.h"
-#include "harness/compare_job.h"
-#include "harness/trial_video.h"
+#include "harness/compare/compare_job.h"
+#include "harness/replay/trial_video.h"
 
 namespace taskmatrix::harness::cli {
 namespace {

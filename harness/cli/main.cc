@@ -11,7 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "harness/cli/verb.h"
-#include "harness/planner_plugins.h"
+#include "harness/scenario/planner_plugins.h"
 
 int main(int argc, char** argv) {
   namespace cli = taskmatrix::harness::cli;

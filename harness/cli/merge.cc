@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "harness/cli/verb.h"
-#include "harness/merge_job.h"
+#include "harness/run/merge_job.h"
 
 namespace taskmatrix::harness::cli {
 namespace {

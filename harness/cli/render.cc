@@ -6,10 +6,10 @@
 #include <filesystem>
 
 #include "harness/cli/verb.h"
-#include "harness/replay.h"
-#include "harness/scenario.h"
-#include "harness/trial.h"
-#include "harness/trial_video.h"
+#include "harness/replay/replay.h"
+#include "harness/replay/trial_video.h"
+#include "harness/run/trial.h"
+#include "harness/scenario/scenario.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/mujoco/scene.h"

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "harness/cli/verb.h"
-#include "harness/run_job.h"
+#include "harness/run/run_job.h"
 
 namespace taskmatrix::harness::cli {
 namespace {

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "harness/cli/verb.h"
-#include "harness/scenes_job.h"
+#include "harness/run/scenes_job.h"
 
 namespace taskmatrix::harness::cli {
 namespace {

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "harness/cli/verb.h"
-#include "harness/run_job.h"
+#include "harness/run/run_job.h"
 
 namespace taskmatrix::harness::cli {
 namespace {
