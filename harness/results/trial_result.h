@@ -1,7 +1,7 @@
 // What one trial measured (harness/run/trial.h runs it; harness/results/trial_record.h writes
 // it as a line of trials.jsonl). Plain data: reading, comparing and reporting on results needs
-// no backend. The work record and state recording are the backend's records
-// (taskmatrix/mujoco/work_record.h: structs of numbers and strings, no MuJoCo types).
+// no backend. The work record is core's; the state recording (for replays) is the backend's
+// (taskmatrix/mujoco/work_record.h: plain structs of numbers and strings, no MuJoCo types).
 #pragma once
 
 #include <string>
@@ -9,6 +9,7 @@
 
 #include "taskmatrix/core/executive.h"
 #include "taskmatrix/core/task_variation.h"
+#include "taskmatrix/core/work_record.h"
 #include "taskmatrix/mujoco/work_record.h"
 
 namespace taskmatrix::harness {
@@ -39,7 +40,7 @@ struct TrialResult {
   // Wall clock inside the executive: set-up programs and the program (their planning, IK,
   // queries, logic and the simulation). trial_wall_s minus this is the trial's set-up.
   double executive_wall_s = 0;
-  mujoco::WorkRecord work;  // every plan call, IK, checks, the executed motion
+  core::WorkRecord work;  // every plan call, IK, checks, the executed motion
   std::vector<TrialEvent> events;
   std::vector<core::Message> log;  // every message, set-up included
   std::vector<core::RecordedSeries> series;

@@ -12,6 +12,14 @@
 //     throw std::invalid_argument.
 //   - Grasped objects that are attached move with the hand and are collision-checked as part
 //     of the robot by every query and during execution, until detached.
+//
+// A backend (a simulator, a robot) derives from Skillset and implements its protected hooks
+// (do_*), the non-virtual interface that Drake's systems use: the public calls check their
+// arguments once here (chain and hand names, sizes, NaN, joint limits), count the work in the
+// WorkRecord, keep the state recording's cadence, and plan to poses and goal regions over the
+// backend's IK, validity and planning hooks; a hook sees only checked arguments. What a hook
+// may still reject (an unknown frame or object, planner options) it rejects as the public call
+// documents.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +33,7 @@
 #include "taskmatrix/core/planning_types.h"
 #include "taskmatrix/core/robot_profile.h"
 #include "taskmatrix/core/trajectory.h"
+#include "taskmatrix/core/work_record.h"
 
 namespace taskmatrix::core {
 
@@ -110,14 +119,14 @@ class Skillset {
   virtual ~Skillset() = default;
 
   // ---- The robot, as discovered at run time.
-  virtual const RobotProfile& profile() const = 0;
-  virtual const std::vector<ChainInfo>& chains() const = 0;
+  const RobotProfile& profile() const { return do_profile(); }
+  const std::vector<ChainInfo>& chains() const { return do_chains(); }
   // Throws std::invalid_argument naming an unknown chain.
   const ChainInfo& chain(std::string_view name) const;
   // Total number of joints of `chain_names`; throws for an unknown chain.
   size_t dof(const std::vector<std::string>& chain_names) const;
   // Current (simulated or measured) configuration of the chains.
-  virtual std::vector<double> configuration(const std::vector<std::string>& chain_names) const = 0;
+  std::vector<double> configuration(const std::vector<std::string>& chain_names) const;
   // The same clamped to the chains' joint limits: a joint may rest a hair past a limit (soft
   // limits in simulation, noise on a robot), which a command may not ask for. What to command
   // to hold the chains where they are.
@@ -129,37 +138,38 @@ class Skillset {
   // ---- Kinematics.
   // Current pose of a frame: a profile frame (palm, end effector), an object's frame, or any
   // named site or body. Throws std::invalid_argument for an unknown frame.
-  virtual Pose frame_pose(const std::string& frame) const = 0;
+  Pose frame_pose(const std::string& frame) const { return do_frame_pose(frame); }
   // Pose of a frame with `chain_names` at `values` and everything else as it is now.
-  virtual Pose frame_pose_at(const std::vector<std::string>& chain_names,
-                             const std::vector<double>& values, const std::string& frame) = 0;
+  Pose frame_pose_at(const std::vector<std::string>& chain_names, const std::vector<double>& values,
+                     const std::string& frame);
   // Inverse kinematics of `chain_names` placing `frame` at `target` (position only when
-  // options.orientation is false). Solutions are configurations of the chains.
-  virtual IkResult solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
-                            const Pose& target, const IkOptions& options) = 0;
+  // options.orientation is false). Solutions are configurations of the chains. Unknown chains
+  // or a non-finite target give kInvalidInput.
+  IkResult solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
+                    const Pose& target, const IkOptions& options);
 
   // ---- Collisions.
   // True if the chains at `values` are within limits and nothing of the robot (or what it
   // holds) touches anything. Throws std::invalid_argument for NaN or wrong sizes.
-  virtual bool is_valid(const std::vector<std::string>& chain_names,
-                        const std::vector<double>& values) = 0;
+  bool is_valid(const std::vector<std::string>& chain_names, const std::vector<double>& values);
   // Smallest signed distance (m, negative when penetrating) between the parts the chains move
   // (and what they hold) and everything else, capped at `max_distance_m`.
-  virtual double clearance(const std::vector<std::string>& chain_names,
-                           const std::vector<double>& values, double max_distance_m) = 0;
+  double clearance(const std::vector<std::string>& chain_names, const std::vector<double>& values,
+                   double max_distance_m);
 
-  // ---- Planning (collision-free paths, start = current configuration).
-  virtual PlanResult plan_to_configuration(const std::vector<std::string>& chain_names,
-                                           const std::vector<double>& goal,
-                                           const PlanOptions& options) = 0;
+  // ---- Planning (collision-free paths, start = current configuration). Bad arguments (unknown
+  // chains, a goal of the wrong size, NaN or outside limits, unknown may_touch names) give
+  // kInvalidInput naming the problem.
+  PlanResult plan_to_configuration(const std::vector<std::string>& chain_names,
+                                   const std::vector<double>& goal, const PlanOptions& options);
   // The paper's reach with several target hand configurations: each target pose in turn is
   // solved by IK (several solutions) and planned to; the first exact plan wins. All IK
   // failing gives kIkFailure; PlanResult::goal_index is the pose reached.
-  virtual PlanResult plan_to_poses(const std::vector<std::string>& chain_names,
-                                   const std::string& frame, const std::vector<Pose>& targets,
-                                   const PlanOptions& options, const IkOptions& ik) = 0;
-  virtual PlanResult plan_to_region(const std::vector<std::string>& chain_names,
-                                    const GoalRegion& region, const PlanOptions& options) = 0;
+  PlanResult plan_to_poses(const std::vector<std::string>& chain_names, const std::string& frame,
+                           const std::vector<Pose>& targets, const PlanOptions& options,
+                           const IkOptions& ik);
+  PlanResult plan_to_region(const std::vector<std::string>& chain_names, const GoalRegion& region,
+                            const PlanOptions& options);
   // The fastest synchronized trajectory through `path` under the chains' speed limits, scaled
   // by `speed_scale` in (0, 1].
   Trajectory time_parameterize(const std::vector<std::string>& chain_names,
@@ -167,27 +177,26 @@ class Skillset {
                                double speed_scale = 1.0) const;
 
   // ---- Execution, in simulated time advanced one control period at a time.
-  virtual double time() const = 0;            // simulated seconds
-  virtual double control_period() const = 0;  // seconds per advance()
+  double time() const { return do_time(); }                      // simulated seconds
+  double control_period() const { return do_control_period(); }  // seconds per advance()
   // Position targets for the chains' joints, held until changed. Throws std::invalid_argument
-  // for NaN, wrong sizes or values outside limits (beyond rounding: a value within 1e-6 of a
-  // limit is clamped to it). The base moves only through these.
-  virtual void command(const std::vector<std::string>& chain_names,
-                       const std::vector<double>& positions,
-                       const std::vector<double>& velocities = {},
-                       const std::vector<double>& accelerations = {}) = 0;
-  virtual StepReport advance() = 0;
+  // for NaN, wrong sizes or values outside limits (beyond rounding: a value within
+  // kCommandTolerance of a limit is clamped to it). The base moves only through these.
+  void command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
+               const std::vector<double>& velocities = {},
+               const std::vector<double>& accelerations = {});
+  StepReport advance();
   // Collisions, at the current state, of the parts the chains move and what they hold.
-  virtual std::vector<Collision> collisions(const std::vector<std::string>& chain_names) const = 0;
+  std::vector<Collision> collisions(const std::vector<std::string>& chain_names) const;
   // Blocking helper: commands `trajectory` sample by sample, advancing at the control rate,
   // then lets the chains settle. Other chains keep their current targets.
   ExecutionReport execute(const std::vector<std::string>& chain_names, const Trajectory& trajectory,
                           const ExecutionOptions& options = {});
 
   // ---- The head sensor.
-  virtual CameraInfo head_camera() const = 0;
+  CameraInfo head_camera() const { return do_head_camera(); }
   // Casts the head sensor's rays in the current simulated state.
-  virtual DepthScan scan_depth() = 0;
+  DepthScan scan_depth() { return do_scan_depth(); }
 
   // ---- Attachment of grasped objects.
   // From now on `object` moves rigidly with the hand of `side` ("left"/"right") and is part
@@ -195,17 +204,114 @@ class Skillset {
   // (tolerating 5 mm): what it touches at the moment of attachment and when any later query or
   // plan starts. Throws std::invalid_argument for an unknown object or side, or an object
   // already attached.
-  virtual void attach(const std::string& object, const std::string& side) = 0;
+  void attach(const std::string& object, const std::string& side);
   // Returns the object to physics where it is. Throws for an object not attached.
-  virtual void detach(const std::string& object) = 0;
-  virtual std::vector<std::string> attached_objects() const = 0;
+  void detach(const std::string& object);
+  std::vector<std::string> attached_objects() const { return do_attached_objects(); }
   // The side ("left"/"right") of the hand holding `object`, or "" if it is not held.
-  virtual std::string holder_of(const std::string& object) const = 0;
+  std::string holder_of(const std::string& object) const { return do_holder_of(object); }
 
   // ---- Contact sensing (the simulated state now).
   // What touches `part`, a robot body or an object's symbolic name: object names for task
   // objects, body names otherwise. Throws std::invalid_argument for an unknown name.
-  virtual std::vector<std::string> touching(const std::string& part) const = 0;
+  std::vector<std::string> touching(const std::string& part) const { return do_touching(part); }
+
+  // ---- What this skillset did, and the state over time.
+  // The work since the skillset was made: plan calls, IK calls and checks counted here, the
+  // executed motion measured by the backend.
+  const WorkRecord& work() const { return work_; }
+  // From now on, records the backend's state every `rate_hz`-th of a second of simulated time
+  // (at the nearest whole number of control periods; 0 stops), starting with the current
+  // state. Throws std::invalid_argument for a negative or non-finite rate.
+  void record_states(double rate_hz);
+  bool recording_states() const { return record_every_ > 0; }
+
+ protected:
+  // ---- The backend's hooks. Chains are known, distinct and non-empty; value vectors have one
+  // finite value per joint of the chains; commanded positions are within limits.
+  virtual const RobotProfile& do_profile() const = 0;
+  virtual const std::vector<ChainInfo>& do_chains() const = 0;
+  virtual std::vector<double> do_configuration(
+      const std::vector<std::string>& chain_names) const = 0;
+  virtual Pose do_frame_pose(const std::string& frame) const = 0;
+  virtual Pose do_frame_pose_at(const std::vector<std::string>& chain_names,
+                                const std::vector<double>& values, const std::string& frame) = 0;
+  virtual IkResult do_solve_ik(const std::vector<std::string>& chain_names,
+                               const std::string& frame, const Pose& target,
+                               const IkOptions& options) = 0;
+  // Values within limits: whether nothing of the robot (or what it holds) touches anything.
+  virtual bool do_is_valid(const std::vector<std::string>& chain_names,
+                           const std::vector<double>& values) = 0;
+  virtual double do_clearance(const std::vector<std::string>& chain_names,
+                              const std::vector<double>& values, double max_distance_m) = 0;
+  // Why `options` cannot be planned with by this backend (e.g. an unknown may_touch name), or
+  // "" when they can; called before any planning work.
+  virtual std::string do_plan_options_error(const PlanOptions& options) const = 0;
+  // A plan from the current configuration to whichever of `goals` (within limits, at least
+  // one) it reaches first; PlanResult::goal_index is left to the caller.
+  virtual PlanResult do_plan(const std::vector<std::string>& chain_names,
+                             const std::vector<std::vector<double>>& goals,
+                             const PlanOptions& options) = 0;
+  virtual double do_time() const = 0;
+  virtual double do_control_period() const = 0;
+  virtual void do_command(const std::vector<std::string>& chain_names,
+                          const std::vector<double>& positions,
+                          const std::vector<double>& velocities,
+                          const std::vector<double>& accelerations) = 0;
+  // One control period; WorkRecord::control_periods already counts it.
+  virtual StepReport do_advance() = 0;
+  virtual std::vector<Collision> do_collisions(
+      const std::vector<std::string>& chain_names) const = 0;
+  virtual CameraInfo do_head_camera() const = 0;
+  virtual DepthScan do_scan_depth() = 0;
+  // `side` is a hand of the profile and `object` is not held.
+  virtual void do_attach(const std::string& object, const std::string& side) = 0;
+  // `object` is held.
+  virtual void do_detach(const std::string& object) = 0;
+  virtual std::vector<std::string> do_attached_objects() const = 0;
+  virtual std::string do_holder_of(const std::string& object) const = 0;
+  virtual std::vector<std::string> do_touching(const std::string& part) const = 0;
+  // The state recording: a new one with frames `frame_period_s` apart, and one frame of the
+  // current state.
+  virtual void do_begin_recording(double frame_period_s) = 0;
+  virtual void do_record_state() = 0;
+
+  // For the backend: its own counts and measures of executed motion.
+  WorkRecord& mutable_work() { return work_; }
+  // Whether a query of this skillset is running (a goal region's sampler may call back into
+  // the skillset's queries, but must not change the world).
+  bool in_query() const { return query_depth_ > 0; }
+
+ private:
+  // Throws std::invalid_argument unless the chains are known, distinct and not empty.
+  void check_chains(const std::vector<std::string>& chain_names) const;
+  // Throws std::invalid_argument unless `values` has a finite value per joint of the chains.
+  void check_values(const std::vector<std::string>& chain_names, const std::vector<double>& values,
+                    const char* what) const;
+  // The index of the first value outside the chains' limits (beyond rounding), or -1.
+  int outside_limits(const std::vector<std::string>& chain_names, const std::vector<double>& values,
+                     double tolerance) const;
+  // The name of joint `index` of the chains' concatenation.
+  const std::string& joint_name(const std::vector<std::string>& chain_names, size_t index) const;
+  // Checks of the planning calls' common arguments; a failure result when they are bad.
+  std::optional<PlanResult> plan_input_error(const std::vector<std::string>& chain_names,
+                                             const PlanOptions& options) const;
+  PlanResult plan_to_poses_unrecorded(const std::vector<std::string>& chain_names,
+                                      const std::string& frame, const std::vector<Pose>& targets,
+                                      const PlanOptions& options, const IkOptions& ik);
+  PlanResult plan_to_region_unrecorded(const std::vector<std::string>& chain_names,
+                                       const GoalRegion& region, const PlanOptions& options);
+  // Records a public plan call in the work record.
+  PlanResult note_plan(const char* kind, PlanResult result);
+
+  WorkRecord work_;
+  int record_every_ = 0;  // control periods per recorded frame; 0: not recording
+  int query_depth_ = 0;
 };
+
+// A joint value this far past a limit is rounding (of arithmetic on the limit's value): a
+// command there is clamped to the limit, a query treats it as within (kLimitSlack).
+inline constexpr double kCommandTolerance = 1e-6;
+inline constexpr double kLimitSlack = 1e-9;
 
 }  // namespace taskmatrix::core

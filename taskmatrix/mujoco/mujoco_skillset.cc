@@ -14,37 +14,9 @@ namespace taskmatrix::mujoco {
 
 namespace {
 
-constexpr double kLimitSlack = 1e-9;
-// A command this far past a limit is rounding (of arithmetic on the limit's value) and is
-// clamped to it; further is an error of the caller.
-constexpr double kCommandTolerance = 1e-6;
-
 std::string body_name(const mjModel* m, int body) {
   const char* name = mj_id2name(m, mjOBJ_BODY, body);
   return name ? name : "body " + std::to_string(body);
-}
-
-// The geoms that are not the robot's and touch object `body` (a root body) in `d`'s contacts.
-std::vector<int> supports_of(const mjModel* m, const mjData* d, const Scene& scene, int body) {
-  std::vector<int> out;
-  for (int i = 0; i < d->ncon; ++i) {
-    const mjContact& c = d->contact[i];
-    const int r1 = m->body_rootid[m->geom_bodyid[c.geom1]];
-    const int r2 = m->body_rootid[m->geom_bodyid[c.geom2]];
-    const int other = r1 == body ? c.geom2 : (r2 == body ? c.geom1 : -1);
-    if (other >= 0 && !scene.is_robot_geom(other) &&
-        std::find(out.begin(), out.end(), other) == out.end()) {
-      out.push_back(other);
-    }
-  }
-  return out;
-}
-
-core::PlanResult plan_failure(core::PlanStatus status, std::string message) {
-  core::PlanResult r;
-  r.status = status;
-  r.message = std::move(message);
-  return r;
 }
 
 }  // namespace
@@ -56,6 +28,9 @@ const char* to_string(ExecutionMode mode) {
 MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOptions options)
     : scene_(std::move(scene)),
       worker_(scene_),
+      servo_(*scene_, worker_.model()),
+      belief_(*scene_),
+      world_(*scene_, worker_.model()),
       execution_(options.execution),
       pruning_(*scene_, worker_.model(), options.pruning) {
   const mjModel* m = worker_.model();
@@ -66,7 +41,6 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
       std::max(1, static_cast<int>(std::lround(1.0 / (options.control_rate_hz * m->opt.timestep))));
   period_ = substeps_ * m->opt.timestep;
   query_ = make_data(m);
-  joint_state_.assign(m->njnt, JointState{-1, -1, -1, -1});
   const core::RobotProfile& robot = scene_->robot();
   for (const ChainIndex& c : scene_->chains()) {
     core::ChainInfo info;
@@ -78,20 +52,8 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
       info.joints = spec->joints;
       info.end_effector = spec->end_effector;
     }
-    for (int j : c.joints) {
-      JointState js{j, m->jnt_qposadr[j], m->jnt_dofadr[j], -1};
-      for (int a = 0; a < m->nu; ++a) {
-        if (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == j) js.actuator = a;
-      }
-      joint_state_[j] = js;  // Scene::load checked that every chain joint has an actuator
-    }
     chains_.push_back(std::move(info));
   }
-  target_pos_.assign(m->njnt, 0.0);
-  target_vel_.assign(m->njnt, 0.0);
-  target_acc_.assign(m->njnt, 0.0);
-  acc_full_.assign(m->nv, 0.0);
-  mass_times_acc_.assign(m->nv, 0.0);
   if (!(std::isfinite(options.clearance_rate_hz) && options.clearance_rate_hz >= 0) ||
       !(std::isfinite(options.clearance_cap_m) && options.clearance_cap_m > 0)) {
     throw std::invalid_argument("clearance rate must be >= 0 Hz and its cap > 0 m");
@@ -137,114 +99,25 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
       if (!finger.qpos_adr.empty()) fingers_.push_back(std::move(finger));
     }
   }
-  for (const auto& [name, spec] : scene_->environment().objects) {
-    for (const std::string& b : spec.bodies) {
-      const int body = mj_name2id(m, mjOBJ_BODY, b.c_str());
-      if (spec.kind == core::ObjectKind::kDebris) {
-        debris_.push_back({body, Eigen::Vector3d(m->body_pos[3 * body], m->body_pos[3 * body + 1],
-                                                 m->body_pos[3 * body + 2])});
-      }
-      if (spec.kind == core::ObjectKind::kTool && !spec.tip_site.empty()) {
-        tool_tips_.push_back(body);
-        tool_tips_.push_back(mj_name2id(m, mjOBJ_SITE, spec.tip_site.c_str()));
-      }
-    }
-  }
   reset();
 }
 
 MujocoSkillset::~MujocoSkillset() = default;
 
 void MujocoSkillset::set_visitor_walk(double speed_mps) {
-  if (!(std::isfinite(speed_mps) && speed_mps >= 0)) {
-    throw std::invalid_argument("visitor walking speed must be a non-negative number of m/s");
-  }
-  const mjModel* m = worker_.model();
-  const core::VisitorSpec& v = scene_->environment().visitor;
-  const std::string where = "environment " + scene_->environment().name + ": the visitor ";
-  if (v.path.size() < 2) throw std::invalid_argument(where + "needs a path of two or more points");
-  const int body = mj_name2id(m, mjOBJ_BODY, v.body.c_str());
-  const int types[3] = {mjJNT_SLIDE, mjJNT_SLIDE, mjJNT_HINGE};
-  if (body < 0 || m->body_jntnum[body] != 3) {
-    throw std::invalid_argument(where + "body must have three joints (slide x, slide y, hinge z)");
-  }
-  for (int k = 0; k < 3; ++k) {
-    const int j = m->body_jntadr[body] + k;
-    if (m->jnt_type[j] != types[k] || m->jnt_axis[3 * j + (k == 1 ? 1 : k == 0 ? 0 : 2)] < 0.99) {
-      throw std::invalid_argument(where +
-                                  "body must have three joints (slide x, slide y, hinge z)");
-    }
-    visitor_qpos_[k] = m->jnt_qposadr[j];
-    visitor_dof_[k] = m->jnt_dofadr[j];
-  }
-  visitor_arc_ = {0.0};
-  for (size_t i = 1; i < v.path.size(); ++i) {
-    visitor_arc_.push_back(visitor_arc_.back() + std::hypot(v.path[i][0] - v.path[i - 1][0],
-                                                            v.path[i][1] - v.path[i - 1][1]));
-  }
-  visitor_speed_ = speed_mps;
-}
-
-void MujocoSkillset::drive_visitor(mjData* d, double time) const {
-  if (visitor_speed_ <= 0) return;
-  const auto& path = scene_->environment().visitor.path;
-  const std::vector<double>& at = visitor_arc_;  // arc length at each waypoint
-  const double length = at.back();
-  if (length <= 0) return;
-  double s = std::fmod(visitor_speed_ * time, 2 * length);
-  const bool back = s > length;
-  if (back) s = 2 * length - s;
-  size_t i = 1;
-  while (i + 1 < at.size() && at[i] < s) ++i;
-  const double seg = at[i] - at[i - 1];
-  const double f = seg > 0 ? (s - at[i - 1]) / seg : 0;
-  double dx = path[i][0] - path[i - 1][0], dy = path[i][1] - path[i - 1][1];
-  const double x = path[i - 1][0] + f * dx, y = path[i - 1][1] + f * dy;
-  if (back) dx = -dx, dy = -dy;
-  const double norm = std::hypot(dx, dy);
-  // Joint values are offsets from the first waypoint; heading = pi + yaw (facing -x at 0).
-  d->qpos[visitor_qpos_[0]] = x - path[0][0];
-  d->qpos[visitor_qpos_[1]] = y - path[0][1];
-  d->qpos[visitor_qpos_[2]] = std::remainder(std::atan2(dy, dx) - M_PI, 2 * M_PI);
-  d->qvel[visitor_dof_[0]] = visitor_speed_ * dx / norm;
-  d->qvel[visitor_dof_[1]] = visitor_speed_ * dy / norm;
-  d->qvel[visitor_dof_[2]] = 0;
-}
-
-bool MujocoSkillset::removed(int body) const {
-  return std::find(removed_debris_.begin(), removed_debris_.end(), body) != removed_debris_.end();
+  world_.set_visitor_walk(worker_.model(), speed_mps);
 }
 
 void MujocoSkillset::collect_debris() {
-  if (attachments_.empty()) return;
-  mjModel* m = worker_.model();
-  const mjData* d = worker_.data();
-  bool any = false;
-  for (size_t k = 0; k < tool_tips_.size(); k += 2) {
-    const int tool = tool_tips_[k], tip = tool_tips_[k + 1];
-    if (std::none_of(attachments_.begin(), attachments_.end(),
-                     [&](const Attachment& a) { return a.body == tool; })) {
-      continue;
-    }
-    const Eigen::Vector3d p(d->site_xpos[3 * tip], d->site_xpos[3 * tip + 1],
-                            d->site_xpos[3 * tip + 2]);
-    for (const Debris& flake : debris_) {
-      if (removed(flake.body)) continue;
-      const double* c = d->xpos + 3 * flake.body;
-      const double up = p.z() - c[2];
-      if (std::hypot(p.x() - c[0], p.y() - c[1]) <= kDebrisPickupRadius && up >= -0.01 &&
-          up <= kDebrisPickupHeight) {
-        m->body_pos[3 * flake.body + 2] = flake.pos.z() - 10.0;  // out of the world
-        removed_debris_.push_back(flake.body);
-        if (record_every_ > 0) recording_.removals.push_back({worker_.data()->time, flake.body});
-        any = true;
-      }
-    }
+  const std::vector<int> removed = world_.collect_debris(worker_.model(), worker_.data(), held_);
+  if (removed.empty()) return;
+  if (recording_states()) {
+    for (int body : removed) recording_.removals.push_back({worker_.data()->time, body});
   }
-  if (any) mj_forward(m, worker_.data());
+  mj_forward(worker_.model(), worker_.data());
 }
 
-core::CameraInfo MujocoSkillset::head_camera() const {
+core::CameraInfo MujocoSkillset::do_head_camera() const {
   const HeadSensorOptions sensor;
   core::CameraInfo info;
   info.frame = profile().head_camera.name;
@@ -254,7 +127,7 @@ core::CameraInfo MujocoSkillset::head_camera() const {
   return info;
 }
 
-core::DepthScan MujocoSkillset::scan_depth() {
+core::DepthScan MujocoSkillset::do_scan_depth() {
   if (!sensor_) sensor_ = std::make_unique<HeadSensor>(*this);
   const SensorImage& image = sensor_->capture();
   core::DepthScan scan;
@@ -269,8 +142,7 @@ core::DepthScan MujocoSkillset::scan_depth() {
 void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
   require_no_query("apply_layout");
   worker_.apply_layout(layout);
-  obstacle_count_ = static_cast<int>(layout.obstacles.size());
-  forget_obstacles();
+  belief_.set_active(static_cast<int>(layout.obstacles.size()));
   mj_forward(worker_.model(), worker_.data());
   if (execution_ == ExecutionMode::kKinematic) settle_free_objects();
 }
@@ -278,114 +150,40 @@ void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
 void MujocoSkillset::apply_layout(const core::TrialLayout& layout) {
   require_no_query("apply_layout");
   worker_.apply_variation(layout.variation);
-  const mjModel* m = worker_.model();
-  for (Debris& flake : debris_) {  // where the variation put them
-    flake.pos = Eigen::Vector3d(m->body_pos[3 * flake.body], m->body_pos[3 * flake.body + 1],
-                                m->body_pos[3 * flake.body + 2]);
-  }
+  world_.note_debris_places(worker_.model());  // where the variation put them
   apply_layout(layout.obstacles);
   reset();
 }
 
 void MujocoSkillset::set_obstacles_need_perception(bool need) {
   require_no_query("set_obstacles_need_perception");
-  obstacles_need_perception_ = need;
-  forget_obstacles();
+  belief_.set_need_perception(need);
 }
 
-void MujocoSkillset::forget_obstacles() {
-  obstacle_perceived_.assign(scene_->obstacle_slots().size(), 0);
-}
+void MujocoSkillset::mark_obstacle_perceived(int slot) { belief_.mark_perceived(slot); }
 
-void MujocoSkillset::mark_obstacle_perceived(int slot) {
-  if (slot < 0 || slot >= static_cast<int>(obstacle_perceived_.size())) {
-    throw std::invalid_argument("no obstacle slot " + std::to_string(slot));
-  }
-  obstacle_perceived_[slot] = 1;
-}
-
-bool MujocoSkillset::obstacle_known(int slot) const {
-  return obstacle_active(slot) && (!obstacles_need_perception_ || obstacle_perceived_[slot]);
-}
-
-MujocoSkillset::BeliefScope::BeliefScope(MujocoSkillset& s) : s_(s) {
-  if (s_.belief_depth_ == 0 && s_.obstacles_need_perception_) {
-    mjModel* m = s_.worker_.model();
-    const std::vector<ObstacleSlot>& slots = s_.scene_->obstacle_slots();
-    s_.hidden_bits_.clear();
-    for (int slot = 0; slot < s_.obstacle_count_; ++slot) {
-      if (s_.obstacle_perceived_[slot]) continue;
-      for (int g : slots[slot].geoms) {
-        s_.hidden_bits_.push_back({g, m->geom_contype[g], m->geom_conaffinity[g]});
-        m->geom_contype[g] = 0;
-        m->geom_conaffinity[g] = 0;
-      }
-    }
-  }
-  ++s_.belief_depth_;
-}
-
-MujocoSkillset::BeliefScope::~BeliefScope() {
-  if (--s_.belief_depth_ > 0) return;
-  mjModel* m = s_.worker_.model();
-  for (const HiddenGeom& h : s_.hidden_bits_) {
-    m->geom_contype[h.geom] = h.contype;
-    m->geom_conaffinity[h.geom] = h.conaffinity;
-  }
-  s_.hidden_bits_.clear();
-}
+bool MujocoSkillset::obstacle_known(int slot) const { return belief_.known(slot); }
 
 void MujocoSkillset::require_no_query(const char* what) const {
-  if (belief_depth_ > 0) {
+  if (belief_.in_scope() || in_query()) {
     throw std::logic_error(std::string(what) + " while a query is running (from a callback)");
   }
 }
 
 void MujocoSkillset::reset() {
   require_no_query("reset");
-  for (const Debris& flake : debris_) {
-    for (int i = 0; i < 3; ++i) worker_.model()->body_pos[3 * flake.body + i] = flake.pos[i];
-  }
-  removed_debris_.clear();
+  world_.restore_debris(worker_.model());
   have_last_ = false;
   have_accel_ = false;
   pruning_.wake_all();
   held_pairs_current_ = false;
   worker_.reset_to_start();
-  forget_obstacles();
-  attachments_.clear();
-  attachment_names_.clear();
-  attachment_sides_.clear();
+  belief_.forget();
+  held_.clear();
   mjData* d = worker_.data();
-  for (const JointState& js : joint_state_) {
-    if (js.joint < 0) continue;
-    target_pos_[js.joint] = d->qpos[js.qpos_adr];
-    target_vel_[js.joint] = 0;
-    target_acc_[js.joint] = 0;
-    d->ctrl[js.actuator] = target_pos_[js.joint];
-  }
+  servo_.hold_current(d);
   mj_forward(worker_.model(), d);
   if (execution_ == ExecutionMode::kKinematic) settle_free_objects();
-}
-
-std::optional<core::PlanResult> MujocoSkillset::plan_joints(
-    const std::vector<std::string>& chain_names, std::vector<int>& joints) const {
-  try {
-    joints = joints_of(chain_names);
-  } catch (const std::invalid_argument& e) {
-    return plan_failure(core::PlanStatus::kInvalidInput, e.what());
-  }
-  return std::nullopt;
-}
-
-std::optional<core::PlanResult> MujocoSkillset::touch_geoms(const core::PlanOptions& options,
-                                                            std::vector<int>& geoms) const {
-  try {
-    geoms = object_geoms(options.may_touch);
-  } catch (const std::invalid_argument& e) {
-    return plan_failure(core::PlanStatus::kInvalidInput, std::string("may_touch: ") + e.what());
-  }
-  return std::nullopt;
 }
 
 std::vector<int> MujocoSkillset::joints_of(const std::vector<std::string>& chain_names) const {
@@ -407,37 +205,6 @@ std::vector<int> MujocoSkillset::joints_of(const std::vector<std::string>& chain
     }
   }
   return joints;
-}
-
-void MujocoSkillset::check_values(const std::vector<std::string>& chain_names,
-                                  const std::vector<int>& joints, const std::vector<double>& values,
-                                  const char* what) const {
-  if (values.size() != joints.size()) {
-    std::string chains;
-    for (const std::string& c : chain_names) chains += (chains.empty() ? "" : ",") + c;
-    throw std::invalid_argument(std::string(what) + " has " + std::to_string(values.size()) +
-                                " values but chains [" + chains + "] have " +
-                                std::to_string(joints.size()) + " joints");
-  }
-  for (size_t i = 0; i < values.size(); ++i) {
-    if (!std::isfinite(values[i])) {
-      throw std::invalid_argument(std::string(what) + " value for joint '" +
-                                  mj_id2name(worker_.model(), mjOBJ_JOINT, joints[i]) +
-                                  "' is not finite");
-    }
-  }
-}
-
-bool MujocoSkillset::within_limits(const std::vector<int>& joints,
-                                   const std::vector<double>& values) const {
-  const mjModel* m = worker_.model();
-  for (size_t i = 0; i < joints.size(); ++i) {
-    if (values[i] < m->jnt_range[2 * joints[i]] - kLimitSlack ||
-        values[i] > m->jnt_range[2 * joints[i] + 1] + kLimitSlack) {
-      return false;
-    }
-  }
-  return true;
 }
 
 void MujocoSkillset::sync_query() {
@@ -485,15 +252,7 @@ std::vector<int> MujocoSkillset::object_geoms(const std::vector<std::string>& ob
 }
 
 void MujocoSkillset::refresh_supports() {
-  const mjModel* m = worker_.model();
-  const mjData* d = worker_.data();
-  for (Attachment& a : attachments_) {
-    for (int g : supports_of(m, d, *scene_, a.body)) {
-      if (std::find(a.support_geoms.begin(), a.support_geoms.end(), g) == a.support_geoms.end()) {
-        a.support_geoms.push_back(g);
-      }
-    }
-  }
+  held_.refresh_supports(*scene_, worker_.model(), worker_.data());
 }
 
 std::vector<char> MujocoSkillset::moved_bodies(const std::vector<int>& joints) const {
@@ -503,22 +262,22 @@ std::vector<char> MujocoSkillset::moved_bodies(const std::vector<int>& joints) c
   for (int b = 1; b < m->nbody; ++b) {
     if (moved[m->body_parentid[b]]) moved[b] = 1;
   }
-  for (const Attachment& a : attachments_) {  // held objects move with their holders
+  for (const Attachment& a : held_.list()) {  // held objects move with their holders
     if (!moved[a.holder_body]) continue;
     for (int b = a.body; b < m->nbody && m->body_rootid[b] == a.body; ++b) moved[b] = 1;
   }
   return moved;
 }
 
-std::vector<double> MujocoSkillset::configuration(
+std::vector<double> MujocoSkillset::do_configuration(
     const std::vector<std::string>& chain_names) const {
   std::vector<double> values;
   for (int j : joints_of(chain_names))
-    values.push_back(worker_.data()->qpos[joint_state_[j].qpos_adr]);
+    values.push_back(worker_.data()->qpos[servo_.joint(j).qpos_adr]);
   return values;
 }
 
-core::Pose MujocoSkillset::frame_pose(const std::string& frame) const {
+core::Pose MujocoSkillset::do_frame_pose(const std::string& frame) const {
   try {
     return mujoco::frame_pose(worker_.data(), resolve_frame(*scene_, worker_.data(), frame));
   } catch (const std::out_of_range&) {
@@ -527,18 +286,17 @@ core::Pose MujocoSkillset::frame_pose(const std::string& frame) const {
   }
 }
 
-core::Pose MujocoSkillset::frame_pose_at(const std::vector<std::string>& chain_names,
-                                         const std::vector<double>& values,
-                                         const std::string& frame) {
+core::Pose MujocoSkillset::do_frame_pose_at(const std::vector<std::string>& chain_names,
+                                            const std::vector<double>& values,
+                                            const std::string& frame) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, values, "configuration");
   const mjModel* m = worker_.model();
   mjData* q = query_.get();
   sync_query();
-  for (size_t i = 0; i < joints.size(); ++i) q->qpos[joint_state_[joints[i]].qpos_adr] = values[i];
+  for (size_t i = 0; i < joints.size(); ++i) q->qpos[servo_.joint(joints[i]).qpos_adr] = values[i];
   mj_kinematics(m, q);
-  if (!attachments_.empty()) {
-    place_attachments(m, q, attachments_);
+  if (!held_.empty()) {
+    place_attachments(m, q, held_.list());
     mj_kinematics(m, q);
   }
   try {
@@ -548,227 +306,72 @@ core::Pose MujocoSkillset::frame_pose_at(const std::vector<std::string>& chain_n
   }
 }
 
-core::IkResult MujocoSkillset::solve_ik(const std::vector<std::string>& chain_names,
-                                        const std::string& frame, const core::Pose& target,
-                                        const core::IkOptions& options) {
-  std::vector<int> joints;
-  try {
-    joints = joints_of(chain_names);
-  } catch (const std::invalid_argument& e) {
-    core::IkResult r;
-    r.reason = e.what();
-    return r;
-  }
-  const BeliefScope belief(*this);
+core::IkResult MujocoSkillset::do_solve_ik(const std::vector<std::string>& chain_names,
+                                           const std::string& frame, const core::Pose& target,
+                                           const core::IkOptions& options) {
+  const std::vector<int> joints = joints_of(chain_names);
+  const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
-  core::IkResult result = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame,
-                                           target, options, attachments_);
-  ++work_.ik_calls;
-  work_.ik_time_s += result.time_s;
-  return result;
+  return mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints, frame, target, options,
+                          held_.list());
 }
 
-bool MujocoSkillset::is_valid(const std::vector<std::string>& chain_names,
-                              const std::vector<double>& values) {
+bool MujocoSkillset::do_is_valid(const std::vector<std::string>& chain_names,
+                                 const std::vector<double>& values) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, values, "configuration");
-  if (!within_limits(joints, values)) return false;
-  const BeliefScope belief(*this);
+  const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
-  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
-  ++work_.collision_checks;
+  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, held_.list());
   return !checker.in_collision(values.data());
 }
 
-double MujocoSkillset::clearance(const std::vector<std::string>& chain_names,
-                                 const std::vector<double>& values, double max_distance_m) {
+double MujocoSkillset::do_clearance(const std::vector<std::string>& chain_names,
+                                    const std::vector<double>& values, double max_distance_m) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, values, "configuration");
-  if (!(std::isfinite(max_distance_m) && max_distance_m > 0)) {
-    throw std::invalid_argument("clearance cap must be a positive number of metres");
-  }
-  const BeliefScope belief(*this);
+  const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
-  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
+  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, held_.list());
   return checker.distance(values.data(), max_distance_m);
 }
 
-core::PlanResult MujocoSkillset::plan_to_configuration(const std::vector<std::string>& chain_names,
-                                                       const std::vector<double>& goal,
-                                                       const core::PlanOptions& options) {
-  std::vector<int> joints, touch;
-  if (auto bad = plan_joints(chain_names, joints)) return *bad;
-  if (auto bad = touch_geoms(options, touch)) return *bad;
-  const BeliefScope belief(*this);
+std::string MujocoSkillset::do_plan_options_error(const core::PlanOptions& options) const {
+  try {
+    object_geoms(options.may_touch);
+  } catch (const std::invalid_argument& e) {
+    return std::string("may_touch: ") + e.what();
+  }
+  return "";
+}
+
+core::PlanResult MujocoSkillset::do_plan(const std::vector<std::string>& chain_names,
+                                         const std::vector<std::vector<double>>& goals,
+                                         const core::PlanOptions& options) {
+  const std::vector<int> joints = joints_of(chain_names);
+  const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
-  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_, touch);
-  return note_plan("configuration", planner.plan({goal}, options));
-}
-
-core::PlanResult MujocoSkillset::plan_to_poses(const std::vector<std::string>& chain_names,
-                                               const std::string& frame,
-                                               const std::vector<core::Pose>& targets,
-                                               const core::PlanOptions& options,
-                                               const core::IkOptions& ik) {
-  return note_plan("poses", plan_to_poses_unrecorded(chain_names, frame, targets, options, ik));
-}
-
-core::PlanResult MujocoSkillset::plan_to_poses_unrecorded(
-    const std::vector<std::string>& chain_names, const std::string& frame,
-    const std::vector<core::Pose>& targets, const core::PlanOptions& options,
-    const core::IkOptions& ik) {
-  std::vector<int> joints, touch;
-  if (auto bad = plan_joints(chain_names, joints)) return *bad;
-  if (auto bad = touch_geoms(options, touch)) return *bad;
-  if (targets.empty()) return plan_failure(core::PlanStatus::kInvalidInput, "no target poses");
-  const BeliefScope belief(*this);
-  refresh_supports();
-  core::PlanResult total;
-  total.status = core::PlanStatus::kIkFailure;
-  std::string ik_reasons;  // every pose's IK failure: the detail
-  int unreachable = 0, in_collision = 0, best_pose = -1;
-  double best_position = 0, best_angle = 0;
-  bool any_planned = false;
-  for (size_t k = 0; k < targets.size(); ++k) {
-    sync_query();
-    const core::IkResult solved = mujoco::solve_ik(*scene_, worker_.model(), query_.get(), joints,
-                                                   frame, targets[k], ik, attachments_);
-    total.ik_time_s += solved.time_s;
-    ++work_.ik_calls;
-    if (solved.status == core::IkStatus::kInvalidInput) {
-      total.status = core::PlanStatus::kInvalidInput;
-      total.message = "target pose " + std::to_string(k) + ": " + solved.reason;
-      return total;
-    }
-    if (solved.status != core::IkStatus::kSolved) {
-      ik_reasons += (ik_reasons.empty() ? "" : "; ") + std::string("pose ") + std::to_string(k) +
-                    ": " + core::to_string(solved.status) + " (" + solved.reason + ")";
-      (solved.status == core::IkStatus::kInCollision ? in_collision : unreachable) += 1;
-      const bool better =
-          best_pose < 0 || solved.position_error_m < best_position ||
-          (solved.position_error_m == best_position && solved.orientation_error_rad < best_angle);
-      if (better) {
-        best_pose = static_cast<int>(k);
-        best_position = solved.position_error_m;
-        best_angle = solved.orientation_error_rad;
-      }
-      continue;
-    }
-    MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_, touch);
-    const core::PlanResult r = planner.plan(solved.solutions, options);
-    any_planned = true;
-    total.planning_time_s += r.planning_time_s;
-    total.simplification_time_s += r.simplification_time_s;
-    total.planning_hit_time_limit |= r.planning_hit_time_limit;
-    total.simplification_hit_time_limit |= r.simplification_hit_time_limit;
-    total.planner_iterations += r.planner_iterations;
-    total.collision_checks += r.collision_checks;
-    total.graph_states += r.graph_states;
-    total.plan_calls += r.plan_calls;
-    total.status = r.status;
-    total.message = "pose " + std::to_string(k) + ": " + r.message;
-    if (r.status == core::PlanStatus::kInvalidStart || r.status == core::PlanStatus::kInvalidInput)
-      return total;  // no other pose can do better
-    if (r.success()) {
-      total.path = r.path;
-      total.goal_index = static_cast<int>(k);
-      total.message.clear();
-      return total;
-    }
-  }
-  if (!any_planned) {
-    // A summary of bounded length; every attempt is in `detail`.
-    char best[160];
-    std::snprintf(best, sizeof best, "; the closest, pose %d, ended %.1f cm and %.1f deg off",
-                  best_pose, best_position * 100, best_angle * 180 / M_PI);
-    total.message = "no target pose has an IK solution: " + std::to_string(targets.size()) +
-                    (targets.size() == 1 ? " pose" : " poses") + " tried (" +
-                    std::to_string(unreachable) + " unreachable, " + std::to_string(in_collision) +
-                    " with every solution in collision)" + (best_pose >= 0 ? best : "");
-    total.detail = ik_reasons;
-  }
-  return total;
-}
-
-core::PlanResult MujocoSkillset::plan_to_region(const std::vector<std::string>& chain_names,
-                                                const core::GoalRegion& region,
-                                                const core::PlanOptions& options) {
-  return note_plan("region", plan_to_region_unrecorded(chain_names, region, options));
-}
-
-core::PlanResult MujocoSkillset::plan_to_region_unrecorded(
-    const std::vector<std::string>& chain_names, const core::GoalRegion& region,
-    const core::PlanOptions& options) {
-  std::vector<int> joints, touch;
-  if (auto bad = plan_joints(chain_names, joints)) return *bad;
-  if (auto bad = touch_geoms(options, touch)) return *bad;
-  if (!region.sample || region.max_draws <= 0 || region.max_goals <= 0) {
-    return plan_failure(core::PlanStatus::kInvalidInput,
-                        "a goal region needs a sampler and positive draw and goal counts");
-  }
-  const BeliefScope belief(*this);
-  refresh_supports();
-  sync_query();
-  std::vector<std::vector<double>> goals;
-  {
-    ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, attachments_);
-    std::mt19937_64 rng(options.seed);
-    for (int draw = 0; draw < region.max_draws && static_cast<int>(goals.size()) < region.max_goals;
-         ++draw) {
-      std::optional<std::vector<double>> q = region.sample(rng);
-      if (!q) continue;
-      if (q->size() != joints.size() ||
-          !std::all_of(q->begin(), q->end(), [](double v) { return std::isfinite(v); })) {
-        return plan_failure(core::PlanStatus::kInvalidInput,
-                            "the goal region sampler returned a configuration of the wrong size "
-                            "or with NaN");
-      }
-      if (within_limits(joints, *q) && !checker.in_collision(q->data())) goals.push_back(*q);
-    }
-  }
-  if (goals.empty()) {
-    return plan_failure(
-        core::PlanStatus::kInvalidGoal,
-        "none of " + std::to_string(region.max_draws) + " draws from the goal region is valid");
-  }
-  sync_query();
-  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, attachments_, touch);
+  MotionPlanner planner(*scene_, worker_.model(), query_.get(), joints, held_.list(),
+                        object_geoms(options.may_touch));
   return planner.plan(goals, options);
 }
 
-double MujocoSkillset::time() const { return worker_.data()->time; }
+double MujocoSkillset::do_time() const { return worker_.data()->time; }
 
-void MujocoSkillset::command(const std::vector<std::string>& chain_names,
-                             const std::vector<double>& positions,
-                             const std::vector<double>& velocities,
-                             const std::vector<double>& accelerations) {
+void MujocoSkillset::do_command(const std::vector<std::string>& chain_names,
+                                const std::vector<double>& positions,
+                                const std::vector<double>& velocities,
+                                const std::vector<double>& accelerations) {
   const std::vector<int> joints = joints_of(chain_names);
-  check_values(chain_names, joints, positions, "command");
-  if (!velocities.empty()) check_values(chain_names, joints, velocities, "command velocity");
-  if (!accelerations.empty())
-    check_values(chain_names, joints, accelerations, "command acceleration");
   const mjModel* m = worker_.model();
-  for (size_t i = 0; i < joints.size(); ++i) {
-    const double lo = m->jnt_range[2 * joints[i]], hi = m->jnt_range[2 * joints[i] + 1];
-    if (positions[i] < lo - kCommandTolerance || positions[i] > hi + kCommandTolerance) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf,
-                    "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]", positions[i],
-                    mj_id2name(m, mjOBJ_JOINT, joints[i]), lo, hi);
-      throw std::invalid_argument(buf);
-    }
-  }
   mjData* d = worker_.data();
   for (size_t i = 0; i < joints.size(); ++i) {
     const int j = joints[i];
-    target_pos_[j] = std::clamp(positions[i], m->jnt_range[2 * j], m->jnt_range[2 * j + 1]);
-    target_vel_[j] = velocities.empty() ? 0.0 : velocities[i];
-    target_acc_[j] = accelerations.empty() ? 0.0 : accelerations[i];
-    d->ctrl[joint_state_[j].actuator] = target_pos_[j];
+    servo_.set_target(j, std::clamp(positions[i], m->jnt_range[2 * j], m->jnt_range[2 * j + 1]),
+                      velocities.empty() ? 0.0 : velocities[i],
+                      accelerations.empty() ? 0.0 : accelerations[i], d);
   }
 }
 
@@ -778,61 +381,25 @@ void MujocoSkillset::set_configuration(const std::vector<std::string>& chain_nam
   const std::vector<int> joints = joints_of(chain_names);
   mjData* d = worker_.data();
   for (size_t i = 0; i < joints.size(); ++i) {
-    d->qpos[joint_state_[joints[i]].qpos_adr] = target_pos_[joints[i]];
-    d->qvel[joint_state_[joints[i]].dof_adr] = 0;
+    const ServoJoint& s = servo_.joint(joints[i]);
+    d->qpos[s.qpos_adr] = s.target_pos;
+    d->qvel[s.dof_adr] = 0;
   }
   const mjModel* m = worker_.model();
-  if (!attachments_.empty()) {
+  if (!held_.empty()) {
     mj_kinematics(m, d);
-    place_attachments(m, d, attachments_);
+    place_attachments(m, d, held_.list());
   }
   mj_forward(m, d);
   have_last_ = false;  // a placement, not motion
   have_accel_ = false;
-  if (record_every_ > 0) record_frame();
+  if (recording_states()) record_frame();
 }
 
-core::PlanResult MujocoSkillset::note_plan(const char* kind, core::PlanResult result) {
-  PlanCallRecord r;
-  r.time_s = worker_.data()->time;
-  r.kind = kind;
-  r.status = core::to_string(result.status);
-  r.planner_runs = result.plan_calls;
-  r.planning_time_s = result.planning_time_s;
-  r.simplification_time_s = result.simplification_time_s;
-  r.planning_hit_time_limit = result.planning_hit_time_limit;
-  r.simplification_hit_time_limit = result.simplification_hit_time_limit;
-  r.planner_iterations = result.planner_iterations;
-  r.path_digest = path_digest(result.path);
-  r.ik_time_s = result.ik_time_s;
-  r.collision_checks = result.collision_checks;
-  r.path_states = static_cast<int>(result.path.size());
-  for (size_t k = 1; k < result.path.size(); ++k) {
-    double sq = 0;
-    for (size_t i = 0; i < result.path[k].size(); ++i) {
-      const double dq = result.path[k][i] - result.path[k - 1][i];
-      sq += dq * dq;
-    }
-    r.path_length += std::sqrt(sq);
-  }
-  work_.collision_checks += result.collision_checks;
-  work_.plans.push_back(std::move(r));
-  return result;
-}
-
-void MujocoSkillset::record_states(double rate_hz) {
-  if (!(std::isfinite(rate_hz) && rate_hz >= 0)) {
-    throw std::invalid_argument("recording rate must be a non-negative number of Hz");
-  }
-  if (rate_hz == 0) {
-    record_every_ = 0;
-    return;
-  }
-  record_every_ = std::max(1, static_cast<int>(std::lround(1.0 / (rate_hz * period_))));
+void MujocoSkillset::do_begin_recording(double frame_period_s) {
   recording_ = StateRecording{};
   recording_.nq = worker_.model()->nq;
-  recording_.frame_period_s = record_every_ * period_;
-  record_frame();
+  recording_.frame_period_s = frame_period_s;
 }
 
 void MujocoSkillset::record_frame() {
@@ -844,19 +411,17 @@ void MujocoSkillset::record_frame() {
 void MujocoSkillset::monitor_period() {
   const mjModel* m = worker_.model();
   const mjData* d = worker_.data();
-  ++work_.control_periods;
-  if (record_every_ > 0 && work_.control_periods % record_every_ == 0) record_frame();
+  core::WorkRecord& work = mutable_work();
   // Robot joints: positions, velocities, accelerations; end effectors: positions. The
   // buffers are members: no allocation per period once sized.
   cur_q_.clear();
   cur_v_.clear();
   cur_ee_.clear();
   moving_.clear();
-  for (const JointState& js : joint_state_) {
-    if (js.joint < 0) continue;
+  for (const ServoJoint& js : servo_.joints()) {
     cur_q_.push_back(d->qpos[js.qpos_adr]);
     cur_v_.push_back(d->qvel[js.dof_adr]);
-    if (target_vel_[js.joint] != 0) moving_.push_back(js.joint);
+    if (js.target_vel != 0) moving_.push_back(js.joint);
   }
   for (int s : ee_sites_)
     cur_ee_.insert(cur_ee_.end(), d->site_xpos + 3 * s, d->site_xpos + 3 * s + 3);
@@ -866,9 +431,9 @@ void MujocoSkillset::monitor_period() {
     for (size_t i = 0; i < cur_q_.size(); ++i) {
       dq += (cur_q_[i] - last_q_[i]) * (cur_q_[i] - last_q_[i]);
     }
-    work_.path_length_joint += std::sqrt(dq);
+    work.path_length_joint += std::sqrt(dq);
     for (size_t i = 0; i + 2 < cur_ee_.size(); i += 3) {
-      work_.path_length_ee_m +=
+      work.path_length_ee_m +=
           std::hypot(cur_ee_[i] - last_ee_[i], cur_ee_[i + 1] - last_ee_[i + 1],
                      cur_ee_[i + 2] - last_ee_[i + 2]);
     }
@@ -880,8 +445,8 @@ void MujocoSkillset::monitor_period() {
         const double j = (cur_a_[i] - last_a_[i]) / period_;
         jerk_sq += j * j;
       }
-      work_.jerk_squared_sum += jerk_sq;
-      ++work_.jerk_samples;
+      work.jerk_squared_sum += jerk_sq;
+      ++work.jerk_samples;
     }
     std::swap(last_a_, cur_a_);
     have_accel_ = true;
@@ -890,15 +455,15 @@ void MujocoSkillset::monitor_period() {
   std::swap(last_v_, cur_v_);
   std::swap(last_ee_, cur_ee_);
   have_last_ = true;
-  if (clearance_every_ > 0 && !moving_.empty() && work_.control_periods % clearance_every_ == 0) {
+  if (clearance_every_ > 0 && !moving_.empty() && work.control_periods % clearance_every_ == 0) {
     // Against the world as it is (every obstacle, seen or not), not the robot's belief.
     sync_query();
-    ValidityChecker checker(*scene_, m, query_.get(), moving_, attachments_);
+    ValidityChecker checker(*scene_, m, query_.get(), moving_, held_.list());
     cur_q_.clear();
     for (int j : moving_) cur_q_.push_back(d->qpos[m->jnt_qposadr[j]]);
-    work_.min_clearance_m =
-        std::min(work_.min_clearance_m, checker.distance_to_world(cur_q_.data(), clearance_cap_m_));
-    ++work_.clearance_samples;
+    work.min_clearance_m =
+        std::min(work.min_clearance_m, checker.distance_to_world(cur_q_.data(), clearance_cap_m_));
+    ++work.clearance_samples;
   }
 }
 
@@ -908,44 +473,24 @@ void MujocoSkillset::step_physics() {
   // Entered with the state current (mj_step1 or mj_forward ran at it): bias forces, mass
   // matrix and contacts are those of the present configuration.
   const double t_end = d->time + period_;
-  bool accelerating = false;
-  for (const JointState& js : joint_state_) {
-    if (js.joint >= 0 && target_acc_[js.joint] != 0) accelerating = true;
-  }
   pruning_.begin(m);
   for (int s = 0; s < substeps_; ++s) {
     // Targets are samples for the end of the period: run along the commanded velocity.
-    const double lead = t_end - (d->time + m->opt.timestep);
-    if (accelerating) {
-      std::fill(acc_full_.begin(), acc_full_.end(), 0.0);
-      for (const JointState& js : joint_state_) {
-        if (js.joint >= 0) acc_full_[js.dof_adr] = target_acc_[js.joint];
-      }
-      mj_mulM(m, d, mass_times_acc_.data(), acc_full_.data());
-    }
-    for (const JointState& js : joint_state_) {
-      if (js.joint < 0) continue;
-      const int v = js.dof_adr;
-      d->ctrl[js.actuator] = target_pos_[js.joint] - target_vel_[js.joint] * lead;
-      d->qfrc_applied[v] = d->qfrc_bias[v] + (accelerating ? mass_times_acc_[v] : 0.0) +
-                           m->dof_damping[v] * target_vel_[js.joint];
-    }
+    servo_.actuate(m, d, t_end - (d->time + m->opt.timestep));
     mj_step2(m, d);  // actuation, accelerations, contact forces, integration
     pruning_.after_integration(m, d);
-    drive_visitor(d, d->time);
-    if (!attachments_.empty()) {
+    world_.drive_visitor(d, d->time);
+    if (!held_.empty()) {
       mj_kinematics(m, d);
-      place_attachments(m, d, attachments_);
+      place_attachments(m, d, held_.list());
     }
     pruning_.before_collision(m, d);
     mj_step1(m, d);  // kinematics, contacts, bias forces at the new state
-    ++work_.contact_passes;
-    work_.contacts += d->ncon;
+    ++mutable_work().contact_passes;
+    mutable_work().contacts += d->ncon;
   }
   pruning_.end(m);
-  for (const JointState& js : joint_state_) {
-    if (js.joint >= 0) d->ctrl[js.actuator] = target_pos_[js.joint];
-  }
+  servo_.hold_targets(d);
 }
 
 void MujocoSkillset::step_kinematic() {
@@ -954,22 +499,17 @@ void MujocoSkillset::step_kinematic() {
   // The same clock as the physics (mj_step adds one timestep at a time).
   for (int s = 0; s < substeps_; ++s) d->time += m->opt.timestep;
   robot_qpos_before_.assign(d->qpos, d->qpos + m->nq);
-  for (const JointState& js : joint_state_) {
-    if (js.joint < 0) continue;
-    d->qpos[js.qpos_adr] = target_pos_[js.joint];
-    d->qvel[js.dof_adr] = target_vel_[js.joint];
-    d->ctrl[js.actuator] = target_pos_[js.joint];
-  }
-  drive_visitor(d, d->time);
+  servo_.place_at_targets(d);
+  world_.drive_visitor(d, d->time);
   mj_kinematics(m, d);
-  if (!attachments_.empty()) {
-    place_attachments(m, d, attachments_);
+  if (!held_.empty()) {
+    place_attachments(m, d, held_.list());
     mj_kinematics(m, d);
   }
   if (stop_fingers_at_contact(robot_qpos_before_)) {
     mj_kinematics(m, d);
-    if (!attachments_.empty()) {
-      place_attachments(m, d, attachments_);
+    if (!held_.empty()) {
+      place_attachments(m, d, held_.list());
       mj_kinematics(m, d);
     }
   }
@@ -1070,7 +610,7 @@ void MujocoSkillset::find_robot_contacts() {
     // Held objects against everything that is neither the robot (those pairs are among the
     // scene's robot pairs) nor the object itself.
     held_pairs_.clear();
-    for (const Attachment& a : attachments_) {
+    for (const Attachment& a : held_.list()) {
       for (int g1 = 0; g1 < m->ngeom; ++g1) {
         if (m->body_rootid[m->geom_bodyid[g1]] != a.body) continue;
         for (int g2 = 0; g2 < m->ngeom; ++g2) {
@@ -1091,8 +631,8 @@ void MujocoSkillset::find_robot_contacts() {
   };
   for (const GeomPair& p : scene_->robot_geom_pairs()) add(p);
   for (const GeomPair& p : held_pairs_) add(p);
-  ++work_.contact_passes;
-  work_.contacts += d->ncon;
+  ++mutable_work().contact_passes;
+  mutable_work().contacts += d->ncon;
 }
 
 void MujocoSkillset::settle_objects(const std::vector<int>& bodies) {
@@ -1160,15 +700,12 @@ void MujocoSkillset::settle_free_objects() {
         m->jnt_type[m->body_jntadr[body]] != mjJNT_FREE) {
       continue;
     }
-    if (std::none_of(attachments_.begin(), attachments_.end(),
-                     [&](const Attachment& a) { return a.body == body; })) {
-      bodies.push_back(body);
-    }
+    if (!held_.holds_body(body)) bodies.push_back(body);
   }
   if (!bodies.empty()) settle_objects(bodies);
 }
 
-core::StepReport MujocoSkillset::advance() {
+core::StepReport MujocoSkillset::do_advance() {
   const mjModel* m = worker_.model();
   mjData* d = worker_.data();
   const auto t_step = std::chrono::steady_clock::now();
@@ -1182,9 +719,9 @@ core::StepReport MujocoSkillset::advance() {
   }
   collect_debris();
   const auto t_monitor = std::chrono::steady_clock::now();
-  work_.stepping_wall_s += std::chrono::duration<double>(t_monitor - t_step).count();
+  mutable_work().stepping_wall_s += std::chrono::duration<double>(t_monitor - t_step).count();
   monitor_period();
-  work_.monitoring_wall_s +=
+  mutable_work().monitoring_wall_s +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_monitor).count();
   const int bad_after = d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
                         d->warning[mjWARN_BADQPOS].number;
@@ -1201,15 +738,15 @@ core::StepReport MujocoSkillset::advance() {
   return report;
 }
 
-std::vector<core::Collision> MujocoSkillset::collisions(
+std::vector<core::Collision> MujocoSkillset::do_collisions(
     const std::vector<std::string>& chain_names) const {
   const std::vector<char> moved = moved_bodies(joints_of(chain_names));
   const mjModel* m = worker_.model();
   const mjData* d = worker_.data();
   std::vector<core::Collision> out;
   auto part_name = [&](int body) {
-    for (size_t k = 0; k < attachments_.size(); ++k) {
-      if (m->body_rootid[body] == attachments_[k].body) return attachment_names_[k];
+    for (const Attachment& a : held_.list()) {
+      if (m->body_rootid[body] == a.body) return a.object;
     }
     return body_name(m, body);
   };
@@ -1217,14 +754,14 @@ std::vector<core::Collision> MujocoSkillset::collisions(
     const mjContact& c = d->contact[i];
     const int b1 = m->geom_bodyid[c.geom1], b2 = m->geom_bodyid[c.geom2];
     if (!moved[b1] && !moved[b2]) continue;
-    if (!counts_as_robot_collision(*scene_, m, c, attachments_)) continue;
+    if (!counts_as_robot_collision(*scene_, m, c, held_.list())) continue;
     const int mine = moved[b1] ? b1 : b2, other = moved[b1] ? b2 : b1;
     out.push_back({part_name(mine), name_of_body(other), -c.dist});
   }
   return out;
 }
 
-void MujocoSkillset::attach(const std::string& object, const std::string& side) {
+void MujocoSkillset::do_attach(const std::string& object, const std::string& side) {
   const mjModel* m = worker_.model();
   const int body = object_body(object);
   const auto spec = scene_->environment().objects.find(object);
@@ -1237,48 +774,21 @@ void MujocoSkillset::attach(const std::string& object, const std::string& side) 
       m->jnt_type[m->body_jntadr[body]] != mjJNT_FREE) {
     throw std::invalid_argument("object '" + object + "' is not a free body and cannot be held");
   }
-  if (std::find(attachment_names_.begin(), attachment_names_.end(), object) !=
-      attachment_names_.end()) {
-    throw std::invalid_argument("object '" + object + "' is already attached");
-  }
   const core::HandSpec* hand = profile().find_hand(side);
-  if (!hand) throw std::invalid_argument("no hand on side '" + side + "'");
   mjData* d = worker_.data();
   mj_forward(m, d);
-  Attachment a;
-  a.body = body;
-  a.holder_body = resolve_frame(*scene_, d, hand->palm).body;
-  for (int b = a.holder_body; b < m->nbody; ++b) {
-    int up = b;
-    while (up > a.holder_body) up = m->body_parentid[up];
-    if (up == a.holder_body) a.hand_bodies.push_back(b);
-  }
-  a.support_geoms = supports_of(m, d, *scene_, body);
-  // Object frame in the holder frame, from the current poses.
-  double inv_pos[3], inv_quat[4];
-  mju_negPose(inv_pos, inv_quat, d->xpos + 3 * a.holder_body, d->xquat + 4 * a.holder_body);
-  mju_mulPose(a.pos.data(), a.quat.data(), inv_pos, inv_quat, d->xpos + 3 * body,
-              d->xquat + 4 * body);
-  attachments_.push_back(std::move(a));
-  attachment_names_.push_back(object);
-  attachment_sides_.push_back(side);
+  held_.add(
+      attachment_at(*scene_, m, d, body, resolve_frame(*scene_, d, hand->palm).body, object, side));
   pruning_.set_held(body, true);
   held_pairs_current_ = false;
-  place_attachments(m, d, attachments_);
+  place_attachments(m, d, held_.list());
   mj_forward(m, d);
   if (execution_ == ExecutionMode::kKinematic) find_robot_contacts();
 }
 
-void MujocoSkillset::detach(const std::string& object) {
-  const auto it = std::find(attachment_names_.begin(), attachment_names_.end(), object);
-  if (it == attachment_names_.end()) {
-    throw std::invalid_argument("object '" + object + "' is not attached");
-  }
-  const size_t k = static_cast<size_t>(it - attachment_names_.begin());
-  const int body = attachments_[k].body;
-  attachments_.erase(attachments_.begin() + static_cast<long>(k));
-  attachment_sides_.erase(attachment_sides_.begin() + static_cast<long>(k));
-  attachment_names_.erase(it);
+void MujocoSkillset::do_detach(const std::string& object) {
+  const int body = held_.remove(object);
+  if (body < 0) throw std::invalid_argument("object '" + object + "' is not attached");
   pruning_.set_held(body, false);
   held_pairs_current_ = false;
   if (execution_ == ExecutionMode::kKinematic) settle_objects({body});
@@ -1286,13 +796,11 @@ void MujocoSkillset::detach(const std::string& object) {
   if (execution_ == ExecutionMode::kKinematic) find_robot_contacts();
 }
 
-std::vector<std::string> MujocoSkillset::attached_objects() const { return attachment_names_; }
+std::vector<std::string> MujocoSkillset::do_attached_objects() const { return held_.objects(); }
 
-std::string MujocoSkillset::holder_of(const std::string& object) const {
-  for (size_t k = 0; k < attachment_names_.size(); ++k) {
-    if (attachment_names_[k] == object) return attachment_sides_[k];
-  }
-  return "";
+std::string MujocoSkillset::do_holder_of(const std::string& object) const {
+  const Attachment* a = held_.find(object);
+  return a ? a->side : "";
 }
 
 std::string MujocoSkillset::name_of_body(int body) const {
@@ -1312,7 +820,7 @@ std::string MujocoSkillset::name_of_body(int body) const {
   return body_name(m, body);
 }
 
-std::vector<std::string> MujocoSkillset::touching(const std::string& part) const {
+std::vector<std::string> MujocoSkillset::do_touching(const std::string& part) const {
   const mjModel* m = worker_.model();
   const mjData* d = worker_.data();
   int body = object_body(part);

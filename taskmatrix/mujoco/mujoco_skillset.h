@@ -31,19 +31,11 @@
 //   Both report the same measures (WorkRecord), and collisions() and touching() read the
 //   same contact list.
 //
-// The world's own behaviour, beyond physics:
-//   - The visitor walks its environment path back and forth at set_visitor_walk's speed,
-//     facing where it goes (driven kinematically; 0, the default, leaves it standing).
-//   - A debris flake is removed (moved out of the world) when the tip of a held tool passes
-//     over it: tip within kDebrisPickupRadius of its centre horizontally and at most
-//     kDebrisPickupHeight above it.
-//   Both restart with reset().
-//
-// What queries know of obstacles: in ground-truth perception every obstacle of the layout;
-// in sensor perception (set_obstacles_need_perception) only the obstacle slots marked
-// perceived. Queries leave the others out (their collision bits are cleared on the worker's
-// model for the duration of the query); the simulation always has every obstacle, so a plan
-// through an unseen one ends in a collision during execution.
+// The world's own behaviour beyond physics (the visitor's walk, debris removal by a held tool)
+// is scripted by WorldScript (world_script.h) and restarts with reset(). What queries know of
+// obstacles is the ObstacleBelief (obstacle_belief.h): every obstacle of the layout in
+// ground-truth perception, only the perceived ones in sensor perception. Held objects are
+// HeldObjects (attachments.h); the joints' targets are a JointServo (joint_servo.h).
 #pragma once
 
 #include <array>
@@ -53,17 +45,18 @@
 #include <vector>
 
 #include "taskmatrix/core/skillset.h"
+#include "taskmatrix/mujoco/attachments.h"
 #include "taskmatrix/mujoco/contact_pruning.h"
+#include "taskmatrix/mujoco/joint_servo.h"
+#include "taskmatrix/mujoco/obstacle_belief.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 #include "taskmatrix/mujoco/work_record.h"
+#include "taskmatrix/mujoco/world_script.h"
 
 namespace taskmatrix::mujoco {
 
 class HeadSensor;
-
-inline constexpr double kDebrisPickupRadius = 0.035;  // m, horizontal, tip to flake centre
-inline constexpr double kDebrisPickupHeight = 0.06;   // m, tip above the flake's centre
 
 enum class ExecutionMode { kPhysics, kKinematic };
 const char* to_string(ExecutionMode mode);  // "physics", "kinematic"
@@ -97,7 +90,7 @@ class MujocoSkillset final : public core::Skillset {
   void apply_layout(const core::TrialLayout& layout);
   void reset();
   // Whether obstacle slot `slot` holds an obstacle of the applied layout.
-  bool obstacle_active(int slot) const { return slot >= 0 && slot < obstacle_count_; }
+  bool obstacle_active(int slot) const { return belief_.active(slot); }
   // Sensor mode: from now on (and after every reset or layout) queries know an obstacle only
   // once it is marked perceived. Off by default: queries know every obstacle.
   void set_obstacles_need_perception(bool need);
@@ -113,14 +106,10 @@ class MujocoSkillset final : public core::Skillset {
   // visitor is not a (slide x, slide y, hinge) body with a path of two or more points.
   void set_visitor_walk(double speed_mps);
   // Debris bodies removed since the last reset, in order of removal.
-  const std::vector<int>& removed_debris() const { return removed_debris_; }
-  bool removed(int body) const;
+  const std::vector<int>& removed_debris() const { return world_.removed_debris(); }
+  bool removed(int body) const { return world_.removed(body); }
 
-  // What this skillset did since it was made (plans, IK, checks, executed motion).
-  const WorkRecord& work() const { return work_; }
-  // From now on, records the simulated state every `rate_hz`-th of a second of simulated time
-  // (at the nearest whole number of control periods; 0 stops), starting with the current state.
-  void record_states(double rate_hz);
+  // The state recording (core::Skillset::record_states): every generalized position.
   const StateRecording& recording() const { return recording_; }
 
   ExecutionMode execution() const { return execution_; }
@@ -128,88 +117,50 @@ class MujocoSkillset final : public core::Skillset {
   const Scene& scene() const { return *scene_; }
   const mjModel* model() const { return worker_.model(); }
   const mjData* sim_data() const { return worker_.data(); }
-  const std::vector<Attachment>& attachments() const { return attachments_; }
+  const std::vector<Attachment>& attachments() const { return held_.list(); }
 
-  // core::Skillset
-  const core::RobotProfile& profile() const override { return scene_->robot(); }
-  const std::vector<core::ChainInfo>& chains() const override { return chains_; }
-  std::vector<double> configuration(const std::vector<std::string>& chain_names) const override;
-  core::Pose frame_pose(const std::string& frame) const override;
-  core::Pose frame_pose_at(const std::vector<std::string>& chain_names,
-                           const std::vector<double>& values, const std::string& frame) override;
-  core::IkResult solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
-                          const core::Pose& target, const core::IkOptions& options) override;
-  bool is_valid(const std::vector<std::string>& chain_names,
-                const std::vector<double>& values) override;
-  double clearance(const std::vector<std::string>& chain_names, const std::vector<double>& values,
-                   double max_distance_m) override;
-  core::PlanResult plan_to_configuration(const std::vector<std::string>& chain_names,
-                                         const std::vector<double>& goal,
-                                         const core::PlanOptions& options) override;
-  core::PlanResult plan_to_poses(const std::vector<std::string>& chain_names,
-                                 const std::string& frame, const std::vector<core::Pose>& targets,
-                                 const core::PlanOptions& options,
-                                 const core::IkOptions& ik) override;
-  core::PlanResult plan_to_region(const std::vector<std::string>& chain_names,
-                                  const core::GoalRegion& region,
-                                  const core::PlanOptions& options) override;
-  double time() const override;
-  double control_period() const override { return period_; }
-  void command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
-               const std::vector<double>& velocities = {},
-               const std::vector<double>& accelerations = {}) override;
-  core::StepReport advance() override;
-  std::vector<core::Collision> collisions(
+ protected:
+  // core::Skillset's hooks.
+  const core::RobotProfile& do_profile() const override { return scene_->robot(); }
+  const std::vector<core::ChainInfo>& do_chains() const override { return chains_; }
+  std::vector<double> do_configuration(const std::vector<std::string>& chain_names) const override;
+  core::Pose do_frame_pose(const std::string& frame) const override;
+  core::Pose do_frame_pose_at(const std::vector<std::string>& chain_names,
+                              const std::vector<double>& values, const std::string& frame) override;
+  core::IkResult do_solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
+                             const core::Pose& target, const core::IkOptions& options) override;
+  bool do_is_valid(const std::vector<std::string>& chain_names,
+                   const std::vector<double>& values) override;
+  double do_clearance(const std::vector<std::string>& chain_names,
+                      const std::vector<double>& values, double max_distance_m) override;
+  std::string do_plan_options_error(const core::PlanOptions& options) const override;
+  core::PlanResult do_plan(const std::vector<std::string>& chain_names,
+                           const std::vector<std::vector<double>>& goals,
+                           const core::PlanOptions& options) override;
+  double do_time() const override;
+  double do_control_period() const override { return period_; }
+  void do_command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
+                  const std::vector<double>& velocities,
+                  const std::vector<double>& accelerations) override;
+  core::StepReport do_advance() override;
+  std::vector<core::Collision> do_collisions(
       const std::vector<std::string>& chain_names) const override;
-  void attach(const std::string& object, const std::string& side) override;
-  void detach(const std::string& object) override;
-  std::vector<std::string> attached_objects() const override;
-  std::string holder_of(const std::string& object) const override;
-  core::CameraInfo head_camera() const override;
-  core::DepthScan scan_depth() override;
-  std::vector<std::string> touching(const std::string& part) const override;
+  void do_attach(const std::string& object, const std::string& side) override;
+  void do_detach(const std::string& object) override;
+  std::vector<std::string> do_attached_objects() const override;
+  std::string do_holder_of(const std::string& object) const override;
+  core::CameraInfo do_head_camera() const override;
+  core::DepthScan do_scan_depth() override;
+  std::vector<std::string> do_touching(const std::string& part) const override;
+  void do_begin_recording(double frame_period_s) override;
+  void do_record_state() override { record_frame(); }
 
  private:
-  struct JointState {
-    int joint, qpos_adr, dof_adr, actuator;
-  };
   // Joint ids of the chains, in order; throws std::invalid_argument for an unknown chain.
   std::vector<int> joints_of(const std::vector<std::string>& chain_names) const;
-  // joints_of for planning calls: an unknown chain becomes an invalid_input result.
-  std::optional<core::PlanResult> plan_joints(const std::vector<std::string>& chain_names,
-                                              std::vector<int>& joints) const;
-  // The geoms of options.may_touch; an unknown name becomes an invalid_input result.
-  std::optional<core::PlanResult> touch_geoms(const core::PlanOptions& options,
-                                              std::vector<int>& geoms) const;
-  // Throws std::invalid_argument unless `values` fits the chains and is finite.
-  void check_values(const std::vector<std::string>& chain_names, const std::vector<int>& joints,
-                    const std::vector<double>& values, const char* what) const;
-  bool within_limits(const std::vector<int>& joints, const std::vector<double>& values) const;
   void sync_query();
-  // While alive, the worker's model hides the obstacles queries do not know. Reentrant.
-  class BeliefScope {
-   public:
-    explicit BeliefScope(MujocoSkillset& s);
-    ~BeliefScope();
-    BeliefScope(const BeliefScope&) = delete;
-    BeliefScope& operator=(const BeliefScope&) = delete;
-
-   private:
-    MujocoSkillset& s_;
-  };
-  void forget_obstacles();
-  // Visitor pose for the current time; debris under held tool tips.
-  void drive_visitor(mjData* d, double time) const;
+  // Debris under held tool tips (WorldScript), removed and recorded.
   void collect_debris();
-  core::PlanResult plan_to_poses_unrecorded(const std::vector<std::string>& chain_names,
-                                            const std::string& frame,
-                                            const std::vector<core::Pose>& targets,
-                                            const core::PlanOptions& options,
-                                            const core::IkOptions& ik);
-  core::PlanResult plan_to_region_unrecorded(const std::vector<std::string>& chain_names,
-                                             const core::GoalRegion& region,
-                                             const core::PlanOptions& options);
-  core::PlanResult note_plan(const char* kind, core::PlanResult result);
   // One control period of each execution mode.
   void step_physics();
   void step_kinematic();
@@ -224,7 +175,7 @@ class MujocoSkillset final : public core::Skillset {
   // Kinematic mode: holds back finger motions that would sink into what the fingers touch.
   // `before`: the robot's qpos before the period's commands were set. True if any was held.
   bool stop_fingers_at_contact(const std::vector<double>& before);
-  // After each control period: the executed motion's measures and the state recording.
+  // After each control period: the executed motion's measures.
   void monitor_period();
   void record_frame();
   // Throws std::logic_error when called from inside a query (a goal sampler's callback).
@@ -233,8 +184,7 @@ class MujocoSkillset final : public core::Skillset {
   // Geoms of named objects (symbolic names or body names, with their subtrees); throws
   // std::invalid_argument for an unknown name.
   std::vector<int> object_geoms(const std::vector<std::string>& objects) const;
-  // Adds to each held object's supports what it touches now (besides its hand): the surface a
-  // plan lifts it from is what it rests on when the plan starts, not only when it was grasped.
+  // Held objects' supports, refreshed from the simulation (HeldObjects::refresh_supports).
   void refresh_supports();
   // The symbolic object name of a body's object, or the body's name.
   std::string name_of_body(int body) const;
@@ -245,20 +195,10 @@ class MujocoSkillset final : public core::Skillset {
   WorkerScene worker_;
   DataPtr query_;
   std::vector<core::ChainInfo> chains_;
-  std::vector<JointState> joint_state_;  // indexed by joint id (robot hinge/slide joints)
-  std::vector<double> target_pos_, target_vel_, target_acc_;  // indexed by joint id
-  std::vector<double> acc_full_, mass_times_acc_;             // nv scratch
-  std::vector<Attachment> attachments_;
-  std::vector<std::string> attachment_names_;
-  std::vector<std::string> attachment_sides_;
-  int obstacle_count_ = 0;
-  bool obstacles_need_perception_ = false;
-  std::vector<char> obstacle_perceived_;  // per slot
-  int belief_depth_ = 0;
-  struct HiddenGeom {
-    int geom, contype, conaffinity;
-  };
-  std::vector<HiddenGeom> hidden_bits_;  // what the outermost BeliefScope cleared
+  JointServo servo_;
+  HeldObjects held_;
+  ObstacleBelief belief_;
+  WorldScript world_;
   ExecutionMode execution_ = ExecutionMode::kPhysics;
   ContactPruning pruning_;
   std::vector<GeomPair> held_pairs_;  // kinematic: held objects' geoms against the world
@@ -276,22 +216,9 @@ class MujocoSkillset final : public core::Skillset {
   double period_ = 0.01;
   int substeps_ = 5;
   double period_start_ = 0;
-  double visitor_speed_ = 0;
-  std::vector<double> visitor_arc_;              // arc length along the path at each waypoint
-  std::array<int, 3> visitor_qpos_{-1, -1, -1};  // x, y, yaw
-  std::array<int, 3> visitor_dof_{-1, -1, -1};
-  struct Debris {
-    int body;
-    Eigen::Vector3d pos;  // body_pos as compiled
-  };
-  std::vector<Debris> debris_;
-  std::vector<int> tool_tips_;  // per environment tool: (body, tip site) pairs, flattened
-  std::vector<int> removed_debris_;
   std::unique_ptr<HeadSensor> sensor_;  // made on the first scan_depth()
   // Monitoring.
-  WorkRecord work_;
   StateRecording recording_;
-  int record_every_ = 0;     // control periods per recorded frame; 0: not recording
   int clearance_every_ = 0;  // control periods per clearance sample; 0: never
   double clearance_cap_m_ = 0.25;
   std::vector<int> ee_sites_, ee_bodies_;                   // end effector frames of the chains

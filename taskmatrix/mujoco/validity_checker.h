@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "taskmatrix/mujoco/scene.h"
@@ -26,6 +27,8 @@ namespace taskmatrix::mujoco {
 // `support_tolerance_m` of penetration, against `support_geoms` (what it rested on when it
 // was grasped, so lifting it off a table is not a collision).
 struct Attachment {
+  std::string object;    // the object's symbolic name (EnvironmentSpec::objects)
+  std::string side;      // the hand holding it: "left" or "right"
   int body = -1;         // the object's root body: a child of the world with a free joint
   int holder_body = -1;  // robot body
   std::array<double, 3> pos{0, 0, 0};      // object frame in the holder's frame

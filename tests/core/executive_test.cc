@@ -1,16 +1,20 @@
-// The executive and state machines, with small test programs on a real skillset.
+// The executive and state machines, with small test programs on the fake skillset (no
+// simulator: core logic alone).
 #include "taskmatrix/core/executive.h"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/io/machine_file.h"
-#include "taskmatrix/mujoco/ground_truth_perception.h"
-#include "taskmatrix/mujoco/mujoco_skillset.h"
-#include "tests/test_support.h"
+#include "tests/support/fake_skillset.h"
 
 namespace taskmatrix::core {
 namespace {
@@ -103,11 +107,11 @@ ProgramRegistry test_registry() {
   return r;
 }
 
-class ExecutiveTest : public ::testing::TestWithParam<std::string> {
+class ExecutiveTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    skills_ = std::make_unique<mujoco::MujocoSkillset>(test::scene(GetParam(), "kitchen"));
-    perception_ = std::make_unique<mujoco::GroundTruthPerception>(*skills_);
+    skills_ = std::make_unique<test::FakeSkillset>(test::fake_kitchen());
+    perception_ = std::make_unique<test::FakePerception>(*skills_);
     registry_ = test_registry();
     exec_ = std::make_unique<Executive>(*skills_, registry_, perception_.get());
   }
@@ -118,13 +122,13 @@ class ExecutiveTest : public ::testing::TestWithParam<std::string> {
     }
     return out;
   }
-  std::unique_ptr<mujoco::MujocoSkillset> skills_;
-  std::unique_ptr<mujoco::GroundTruthPerception> perception_;
+  std::unique_ptr<test::FakeSkillset> skills_;
+  std::unique_ptr<test::FakePerception> perception_;
   ProgramRegistry registry_;
   std::unique_ptr<Executive> exec_;
 };
 
-TEST_P(ExecutiveTest, ProgramsOnDisjointChainsProgressTogether) {
+TEST_F(ExecutiveTest, ProgramsOnDisjointChainsProgressTogether) {
   const double l0 = skills_->configuration({"left_arm"})[0];
   const double r0 = skills_->configuration({"right_arm"})[0];
   const int a =
@@ -145,7 +149,7 @@ TEST_P(ExecutiveTest, ProgramsOnDisjointChainsProgressTogether) {
   EXPECT_EQ(exec_->holder_of_chain("left_arm"), -1);
 }
 
-TEST_P(ExecutiveTest, AProgramAskingForAHeldChainIsRefusedAndTheHolderContinues) {
+TEST_F(ExecutiveTest, AProgramAskingForAHeldChainIsRefusedAndTheHolderContinues) {
   const int a = exec_->start("sweep", {{"chains", "[left_arm]"}, {"duration", "1"}});
   const int b = exec_->start("sweep", {{"chains", "[head, left_arm]"}});
   EXPECT_FALSE(exec_->running(b));
@@ -159,7 +163,7 @@ TEST_P(ExecutiveTest, AProgramAskingForAHeldChainIsRefusedAndTheHolderContinues)
   EXPECT_EQ(exec_->outcome(a)->type, MessageType::kCompleted);
 }
 
-TEST_P(ExecutiveTest, ForcedTerminationFreesTheChainsAtOnce) {
+TEST_F(ExecutiveTest, ForcedTerminationFreesTheChainsAtOnce) {
   const int a =
       exec_->start("sweep", {{"chains", "[torso, head]"}, {"duration", "30"}, {"delta", "0.2"}});
   for (int k = 0; k < 20; ++k) exec_->tick();
@@ -176,7 +180,7 @@ TEST_P(ExecutiveTest, ForcedTerminationFreesTheChainsAtOnce) {
   EXPECT_TRUE(exec_->running(b));
 }
 
-TEST_P(ExecutiveTest, APreconditionThatIsFalseFailsTheProgramBeforeItRuns) {
+TEST_F(ExecutiveTest, APreconditionThatIsFalseFailsTheProgramBeforeItRuns) {
   const int a = exec_->start("wait_for_wave", {});
   ASSERT_NE(exec_->outcome(a), nullptr);
   // The reason says which joint is how far from the posture.
@@ -186,7 +190,7 @@ TEST_P(ExecutiveTest, APreconditionThatIsFalseFailsTheProgramBeforeItRuns) {
   EXPECT_EQ(exec_->holder_of_chain("head"), -1);
 }
 
-TEST_P(ExecutiveTest, BadParametersAreRejectedBeforeAnythingRuns) {
+TEST_F(ExecutiveTest, BadParametersAreRejectedBeforeAnythingRuns) {
   auto error = [&](const RawParams& p) {
     try {
       exec_->start("sweep", p);
@@ -212,7 +216,7 @@ TEST_P(ExecutiveTest, BadParametersAreRejectedBeforeAnythingRuns) {
   EXPECT_NE(exec_->outcome(a)->reason.find("invalid_input: "), std::string::npos);
 }
 
-TEST_P(ExecutiveTest, AProgramThatThrowsFailsWithProgramErrorAndTheOthersRunOn) {
+TEST_F(ExecutiveTest, AProgramThatThrowsFailsWithProgramErrorAndTheOthersRunOn) {
   const int bad = exec_->start("thrower", {{"chains", "[head]"}});
   const int good =
       exec_->start("sweep", {{"chains", "[left_arm]"}, {"duration", "0.5"}, {"delta", "0.1"}});
@@ -224,25 +228,14 @@ TEST_P(ExecutiveTest, AProgramThatThrowsFailsWithProgramErrorAndTheOthersRunOn) 
   EXPECT_EQ(exec_->outcome(good)->type, MessageType::kCompleted);
 }
 
-// Puts every joint of `chain` `past` radians (or metres) beyond its upper limit, as a joint
-// that settled on a soft limit is measured.
-void push_past_upper_limits(mujoco::MujocoSkillset& skills, const std::string& chain, double past) {
-  const mjModel* m = skills.model();
-  mjData* d = const_cast<mjData*>(skills.sim_data());
-  const ChainInfo& c = skills.chain(chain);
-  for (size_t i = 0; i < c.joints.size(); ++i) {
-    const int j = mj_name2id(m, mjOBJ_JOINT, c.joints[i].c_str());
-    ASSERT_GE(j, 0) << c.joints[i];
-    d->qpos[m->jnt_qposadr[j]] = c.upper[i] + past;
-    d->qvel[m->jnt_dofadr[j]] = 0;
-  }
-  mj_forward(m, d);
-}
-
-TEST_P(ExecutiveTest, HaltingAChainAHairPastItsLimitHoldsItAtTheLimit) {
+TEST_F(ExecutiveTest, HaltingAChainAHairPastItsLimitHoldsItAtTheLimit) {
   const int a = exec_->start("sweep", {{"chains", "[head]"}, {"duration", "30"}});
   for (int k = 0; k < 5; ++k) exec_->tick();
-  push_past_upper_limits(*skills_, "head", 1e-4);
+  // Every joint of the head a hair past its upper limit, as a joint settled on a soft limit
+  // is measured.
+  std::vector<double> past = skills_->chain("head").upper;
+  for (double& v : past) v += 1e-4;
+  skills_->place({"head"}, past);
   exec_->halt(a);
   EXPECT_EQ(exec_->outcome(a)->type, MessageType::kHalted) << exec_->outcome(a)->reason;
   EXPECT_EQ(skills_->clamped_configuration({"head"}), skills_->chain("head").upper);
@@ -266,7 +259,7 @@ MachineSpec two_step_machine(const std::string& second_outcome) {
   return m;
 }
 
-TEST_P(ExecutiveTest, StateMachineTransitionsOnMessagesToAFinalState) {
+TEST_F(ExecutiveTest, StateMachineTransitionsOnMessagesToAFinalState) {
   register_machine(two_step_machine("completed"), registry_);
   const int m = exec_->start("two_step", {{"arm", "[left_arm]"}});
   EXPECT_TRUE(exec_->run(10.0));
@@ -278,7 +271,7 @@ TEST_P(ExecutiveTest, StateMachineTransitionsOnMessagesToAFinalState) {
   EXPECT_EQ(sequence, (std::vector<std::string>{"started", "completed", "started", "completed"}));
 }
 
-TEST_P(ExecutiveTest, AFailureTakesTheFailureTransitionAndEndsInAFailureState) {
+TEST_F(ExecutiveTest, AFailureTakesTheFailureTransitionAndEndsInAFailureState) {
   register_machine(two_step_machine("failed"), registry_);
   const int m = exec_->start("two_step", {{"arm", "[right_arm]"}});
   EXPECT_TRUE(exec_->run(10.0));
@@ -294,7 +287,7 @@ TEST_P(ExecutiveTest, AFailureTakesTheFailureTransitionAndEndsInAFailureState) {
   EXPECT_EQ(exec_->outcome(m)->reason, "final state gave_up");
 }
 
-TEST_P(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) {
+TEST_F(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) {
   MachineSpec m = two_step_machine("failed");
   m.transitions.erase(m.transitions.begin() + 2);  // no "second failed" transition
   register_machine(m, registry_);
@@ -304,7 +297,7 @@ TEST_P(ExecutiveTest, AFailureWithNoTransitionFailsTheMachineWithTheSameReason) 
   EXPECT_EQ(exec_->outcome(id)->path, "sweep(second)");
 }
 
-TEST_P(ExecutiveTest, AnInvariantThatStopsHoldingSaysWhatWasMeasured) {
+TEST_F(ExecutiveTest, AnInvariantThatStopsHoldingSaysWhatWasMeasured) {
   MachineSpec m = two_step_machine("completed");
   m.states[0].params["delta"] = "0.5";
   m.states[0].invariant = "postural(rest)";
@@ -319,7 +312,7 @@ TEST_P(ExecutiveTest, AnInvariantThatStopsHoldingSaysWhatWasMeasured) {
   EXPECT_EQ(failed.path, "sweep(first)");
 }
 
-TEST_P(ExecutiveTest, AFailureInANestedMachineNamesThePathToTheStateThatFailed) {
+TEST_F(ExecutiveTest, AFailureInANestedMachineNamesThePathToTheStateThatFailed) {
   MachineSpec inner = two_step_machine("failed");
   inner.transitions.erase(inner.transitions.begin() + 2);  // no "second failed" transition
   register_machine(inner, registry_);
@@ -342,7 +335,7 @@ TEST_P(ExecutiveTest, AFailureInANestedMachineNamesThePathToTheStateThatFailed) 
   EXPECT_EQ(failure_status("ik_failure: no pose: 3 tried"), "ik_failure");
 }
 
-TEST_P(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {
+TEST_F(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {
   register_machine(two_step_machine("completed"), registry_);
   MachineSpec outer;
   outer.name = "outer";
@@ -372,7 +365,7 @@ TEST_P(ExecutiveTest, MachinesNestAndHaltingOneHaltsItsChildren) {
   EXPECT_EQ(exec_->holder_of_chain("torso"), -1);
 }
 
-TEST_P(ExecutiveTest, MachinesAreCheckedWhenRegistered) {
+TEST_F(ExecutiveTest, MachinesAreCheckedWhenRegistered) {
   auto error = [&](MachineSpec m) {
     try {
       register_machine(m, registry_);
@@ -416,8 +409,20 @@ TEST_P(ExecutiveTest, MachinesAreCheckedWhenRegistered) {
   EXPECT_EQ(error(m), "machine 'two_step': has no final state");
 }
 
-TEST_P(ExecutiveTest, MachinesFromYamlRunAndBadFilesNameFileLineAndKey) {
-  test::ScratchRoot root;
+TEST_F(ExecutiveTest, MachinesFromYamlRunAndBadFilesNameFileLineAndKey) {
+  // A fresh folder for the machine files.
+  static std::atomic<int> serial{0};
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      ("taskmatrix-machines-" + std::to_string(getpid()) + "-" + std::to_string(serial++));
+  std::filesystem::create_directories(dir);
+  struct Remove {
+    std::filesystem::path path;
+    ~Remove() { std::filesystem::remove_all(path); }
+  } remove{dir};
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+  };
   const std::string good = R"(name: wave_then_nod
 doc: two sweeps in sequence
 parameters:
@@ -434,8 +439,8 @@ transitions:
   - {from: swing, on: completed, to: nod}
   - {from: nod, on: completed, to: done, stop: [lean]}
 )";
-  root.write("good.yaml", good);
-  io::load_and_register_machine(root.file("good.yaml"), registry_);
+  write("good.yaml", good);
+  io::load_and_register_machine(dir / "good.yaml", registry_);
   const int id = exec_->start("wave_then_nod", {{"arm", "[left_arm]"}});
   EXPECT_TRUE(exec_->run(10.0));
   EXPECT_EQ(exec_->outcome(id)->type, MessageType::kCompleted);
@@ -443,12 +448,12 @@ transitions:
   auto error = [&](const std::string& from, const std::string& to) {
     std::string text = good;
     text.replace(text.find(from), from.size(), to);
-    root.write("bad.yaml", text);
+    write("bad.yaml", text);
     ProgramRegistry fresh = test_registry();
     try {
-      io::load_and_register_machine(root.file("bad.yaml"), fresh);
+      io::load_and_register_machine(dir / "bad.yaml", fresh);
     } catch (const InputError& e) {
-      return std::string(e.what()).substr(root.path().string().size() + 1);
+      return std::string(e.what()).substr(dir.string().size() + 1);
     }
     return std::string("no error");
   };
@@ -467,8 +472,6 @@ transitions:
             "bad.yaml:9: repeat: unknown key (expected one of: name, doc, parameters, "
             "concurrent, initial, states, transitions)");
 }
-
-INSTANTIATE_TEST_SUITE_P(Robots, ExecutiveTest, ::testing::Values("tallbot", "minibot"));
 
 }  // namespace
 }  // namespace taskmatrix::core

@@ -1,10 +1,10 @@
-#include "taskmatrix/mujoco/work_record.h"
+#include "taskmatrix/core/work_record.h"
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 
-namespace taskmatrix::mujoco {
+namespace taskmatrix::core {
 
 namespace {
 
@@ -47,4 +47,4 @@ double WorkRecord::jerk_rms() const {
   return jerk_samples > 0 ? std::sqrt(jerk_squared_sum / static_cast<double>(jerk_samples)) : NAN;
 }
 
-}  // namespace taskmatrix::mujoco
+}  // namespace taskmatrix::core
