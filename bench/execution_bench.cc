@@ -20,7 +20,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "harness/model_catalog.h"
+#include "harness/scenario/model_catalog.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 
 namespace {

@@ -32,7 +32,7 @@
 #include <cmath>
 #include <random>
 
-#include "harness/model_catalog.h"
+#include "harness/scenario/model_catalog.h"
 #include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 #include "taskmatrix/mujoco/validity_checker.h"

@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-#include "harness/model_catalog.h"
+#include "harness/scenario/model_catalog.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 
 namespace {

@@ -16,8 +16,8 @@
 #include <atomic>
 #include <random>
 
-#include "harness/model_catalog.h"
-#include "harness/planner_plugins.h"
+#include "harness/scenario/model_catalog.h"
+#include "harness/scenario/planner_plugins.h"
 #include "taskmatrix/mujoco/motion_planner.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 

@@ -38,11 +38,11 @@
 #include <map>
 #include <sstream>
 
-#include "harness/model_catalog.h"
-#include "harness/run_job.h"
-#include "harness/trial.h"
-#include "harness/trial_matrix.h"
-#include "harness/trial_record.h"
+#include "harness/results/trial_record.h"
+#include "harness/run/run_job.h"
+#include "harness/run/trial.h"
+#include "harness/scenario/model_catalog.h"
+#include "harness/scenario/trial_matrix.h"
 #include "taskmatrix/programs/primitives.h"
 
 namespace {

@@ -20,9 +20,9 @@
 #include <map>
 #include <sstream>
 
-#include "harness/model_catalog.h"
-#include "harness/scenario.h"
-#include "harness/trial.h"
+#include "harness/run/trial.h"
+#include "harness/scenario/model_catalog.h"
+#include "harness/scenario/scenario.h"
 #include "taskmatrix/programs/primitives.h"
 
 namespace {

@@ -9,7 +9,7 @@
 
 #include <random>
 
-#include "harness/model_catalog.h"
+#include "harness/scenario/model_catalog.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 
 namespace {

@@ -12,7 +12,7 @@
 #include <mutex>
 #include <sstream>
 
-#include "harness/planner_plugins.h"
+#include "harness/scenario/planner_plugins.h"
 
 namespace taskmatrix::test {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/model_catalog.h"
+#include "harness/scenario/model_catalog.h"
 #include "taskmatrix/mujoco/scene.h"
 
 namespace taskmatrix::test {

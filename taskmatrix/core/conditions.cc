@@ -1,14 +1,12 @@
 #include "taskmatrix/core/conditions.h"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
-#include <string_view>
 
 namespace taskmatrix::core {
 
@@ -379,16 +377,52 @@ bool in_camera_view(Skillset& skills, const Eigen::AlignedBox3d& box) {
 
 namespace {
 
-// Every name the parser accepts, in the order of the reference (docs/conditions.md); the
-// unknown-condition error lists them, and a test checks the reference against that list.
-constexpr std::array<std::string_view, 10> kConditionNames = {
-    "near",    "above",  "postural", "grasping", "graspable",
-    "in_view", "exists", "not",      "all_of",   "any_of"};
+bool well_formed_name(const std::string& name) {
+  return !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+}
+
+using Kind = ConditionArgKind;
+
+// The built-in conditions, in the order of the reference (docs/conditions.md); a test checks
+// the reference against the registry.
+void add_builtins(ConditionRegistry& r) {
+  using Args = std::vector<ConditionArg>;
+  r.add({"near", 2, 3, {Kind::kName, Kind::kName, Kind::kNumber}, [](const Args& a) {
+           return near(a[0].name, a[1].name, a.size() == 3 ? a[2].number : 0.10);
+         }});
+  r.add({"above", 2, 2, {Kind::kName}, [](const Args& a) { return above(a[0].name, a[1].name); }});
+  r.add({"postural", 1, kAnyNumberOfArgs, {Kind::kName}, [](const Args& a) {
+           std::vector<std::string> chains;
+           for (size_t i = 1; i < a.size(); ++i) chains.push_back(a[i].name);
+           return postural(a[0].name, chains);
+         }});
+  r.add({"grasping", 1, 1, {Kind::kName}, [](const Args& a) { return grasping(a[0].name); }});
+  r.add({"graspable", 1, 2, {Kind::kName}, [](const Args& a) {
+           return graspable(a[0].name, a.size() == 2 ? a[1].name : "any");
+         }});
+  r.add({"in_view", 1, 1, {Kind::kName}, [](const Args& a) { return in_view(a[0].name); }});
+  r.add({"exists", 1, 1, {Kind::kName}, [](const Args& a) { return exists(a[0].name); }});
+  r.add({"not", 1, 1, {Kind::kCondition}, [](const Args& a) { return negate(a[0].condition); }});
+  const auto conditions = [](const Args& a) {
+    std::vector<ConditionPtr> inner;
+    for (const ConditionArg& arg : a) inner.push_back(arg.condition);
+    return inner;
+  };
+  r.add({"all_of", 1, kAnyNumberOfArgs, {Kind::kCondition}, [conditions](const Args& a) {
+           return all_of(conditions(a));
+         }});
+  r.add({"any_of", 1, kAnyNumberOfArgs, {Kind::kCondition}, [conditions](const Args& a) {
+           return any_of(conditions(a));
+         }});
+}
 
 // Recursive descent over: call := name '(' [arg {',' arg}] ')'; arg := call | word.
 class ConditionParser {
  public:
-  explicit ConditionParser(const std::string& text) : text_(text) {}
+  ConditionParser(const std::string& text, const ConditionRegistry& registry)
+      : text_(text), registry_(registry) {}
 
   ConditionPtr parse() {
     ConditionPtr c = call();
@@ -478,76 +512,103 @@ class ConditionParser {
     error(f + ": argument " + std::to_string(i + 1) + " must be a non-negative number, not '" + w +
           "'");
   }
+  ConditionPtr condition_arg(const std::string& f, const std::vector<Arg>& args, size_t i) {
+    if (!args[i].inner) error(f + ": argument " + std::to_string(i + 1) + " must be a condition");
+    return args[i].inner;
+  }
   void arity(const std::string& f, const std::vector<Arg>& args, size_t lo, size_t hi) {
     if (args.size() < lo || args.size() > hi) {
       error(f + " takes " + std::to_string(lo) +
-            (hi == lo  ? ""
-             : hi > 99 ? " or more"
-                       : " to " + std::to_string(hi)) +
+            (hi == lo                 ? ""
+             : hi == kAnyNumberOfArgs ? " or more"
+                                      : " to " + std::to_string(hi)) +
             " argument" + (lo == 1 && hi == 1 ? "" : "s") + ", not " + std::to_string(args.size()));
     }
   }
   ConditionPtr make(const std::string& f, const std::vector<Arg>& args) {
-    if (std::find(kConditionNames.begin(), kConditionNames.end(), f) == kConditionNames.end()) {
+    const ConditionType* type = registry_.find(f);
+    if (type == nullptr) {
       std::string known;
-      for (const std::string_view name : kConditionNames) {
-        known += (known.empty() ? "" : ", ") + std::string(name);
+      for (const std::string& name : registry_.names()) {
+        known += (known.empty() ? "" : ", ") + name;
       }
       error("unknown condition '" + f + "' (known: " + known + ")");
     }
-    if (f == "near") {
-      arity(f, args, 2, 3);
-      return near(name_arg(f, args, 0), name_arg(f, args, 1),
-                  args.size() == 3 ? number_arg(f, args, 2) : 0.10);
-    }
-    if (f == "above") {
-      arity(f, args, 2, 2);
-      return above(name_arg(f, args, 0), name_arg(f, args, 1));
-    }
-    if (f == "postural") {
-      arity(f, args, 1, 1000);
-      std::vector<std::string> chains;
-      for (size_t i = 1; i < args.size(); ++i) chains.push_back(name_arg(f, args, i));
-      return postural(name_arg(f, args, 0), chains);
-    }
-    if (f == "grasping") {
-      arity(f, args, 1, 1);
-      return grasping(name_arg(f, args, 0));
-    }
-    if (f == "graspable") {
-      arity(f, args, 1, 2);
-      return graspable(name_arg(f, args, 0), args.size() == 2 ? name_arg(f, args, 1) : "any");
-    }
-    if (f == "in_view") {
-      arity(f, args, 1, 1);
-      return in_view(name_arg(f, args, 0));
-    }
-    if (f == "exists") {
-      arity(f, args, 1, 1);
-      return exists(name_arg(f, args, 0));
-    }
-    if (f == "not" || f == "all_of" || f == "any_of") {
-      arity(f, args, 1, f == "not" ? 1 : 1000);
-      std::vector<ConditionPtr> inner;
-      for (size_t i = 0; i < args.size(); ++i) {
-        if (!args[i].inner)
-          error(f + ": argument " + std::to_string(i + 1) + " must be a condition");
-        inner.push_back(args[i].inner);
+    arity(f, args, type->min_args, type->max_args);
+    std::vector<ConditionArg> checked(args.size());
+    for (size_t i = 0; i < args.size(); ++i) {
+      switch (type->kinds[std::min(i, type->kinds.size() - 1)]) {
+        case Kind::kName:
+          checked[i].name = name_arg(f, args, i);
+          break;
+        case Kind::kNumber:
+          checked[i].number = number_arg(f, args, i);
+          break;
+        case Kind::kCondition:
+          checked[i].condition = condition_arg(f, args, i);
+          break;
       }
-      if (f == "not") return negate(inner[0]);
-      return f == "all_of" ? all_of(inner) : any_of(inner);
     }
-    throw std::logic_error("condition '" + f + "' is listed in kConditionNames but not parsed");
+    ConditionPtr made = type->make(checked);
+    if (!made) throw std::logic_error("condition '" + f + "' made no condition");
+    return made;
   }
 
   const std::string& text_;
+  const ConditionRegistry& registry_;
   size_t pos_ = 0;
   int depth_ = 0;
 };
 
 }  // namespace
 
-ConditionPtr parse_condition(const std::string& text) { return ConditionParser(text).parse(); }
+void ConditionRegistry::add(ConditionType type) {
+  const std::string what = "condition '" + type.name + "'";
+  if (!well_formed_name(type.name)) {
+    throw std::invalid_argument("condition name '" + type.name +
+                                "' is not 1 to 64 of A-Z a-z 0-9 _");
+  }
+  if (find(type.name) != nullptr) throw std::invalid_argument(what + " is registered twice");
+  if (type.min_args > type.max_args) {
+    throw std::invalid_argument(what + ": min_args " + std::to_string(type.min_args) +
+                                " is above max_args " + std::to_string(type.max_args));
+  }
+  if (type.max_args > 0 && type.kinds.empty()) {
+    throw std::invalid_argument(what + " takes arguments but declares no argument kinds");
+  }
+  if (!type.make) throw std::invalid_argument(what + " has no make function");
+  types_.push_back(std::move(type));
+}
+
+const ConditionType* ConditionRegistry::find(const std::string& name) const {
+  for (const ConditionType& type : types_) {
+    if (type.name == name) return &type;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> ConditionRegistry::names() const {
+  std::vector<std::string> out;
+  for (const ConditionType& type : types_) out.push_back(type.name);
+  return out;
+}
+
+ConditionRegistry& condition_registry() {
+  static ConditionRegistry registry = [] {
+    ConditionRegistry r;
+    add_builtins(r);
+    return r;
+  }();
+  return registry;
+}
+
+ConditionRegistration::ConditionRegistration(ConditionType type) {
+  condition_registry().add(std::move(type));
+}
+
+ConditionPtr parse_condition(const std::string& text, const ConditionRegistry& registry) {
+  return ConditionParser(text, registry).parse();
+}
 
 double box_distance(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
   Eigen::Vector3d gap = Eigen::Vector3d::Zero();

@@ -20,10 +20,13 @@
 // An object the perceptual model does not know makes near/above/graspable/in_view false.
 //
 // Text form (scenario success criteria, state-machine guards and invariants), parsed by
-// parse_condition: the names above as calls, with not/all_of/any_of for composition, e.g.
+// parse_condition: the names above (and any registered: ConditionRegistry below) as calls,
+// with not/all_of/any_of for composition, e.g.
 //   all_of(above(cup, side_surface), near(cup, side_surface, 0.1), not(grasping(cup)))
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <random>
@@ -75,11 +78,65 @@ ConditionPtr all_of(std::vector<ConditionPtr> conditions);
 ConditionPtr any_of(std::vector<ConditionPtr> conditions);
 ConditionPtr negate(ConditionPtr condition);
 
-// Parses the text form. Throws std::invalid_argument naming the position and what was
-// expected ("condition 'near(cup)': near takes 2 or 3 arguments"), also for conditions nested
-// more than kMaxConditionDepth calls deep.
+// ---- The condition registry: what the text form may call.
+// A call's arguments are names (objects, types, postures, chains, sides: any WORD of the text
+// form), non-negative finite numbers, or nested conditions.
+enum class ConditionArgKind { kName, kNumber, kCondition };
+
+// One parsed argument: `name` for kName, `number` for kNumber, `condition` for kCondition.
+struct ConditionArg {
+  std::string name;
+  double number = 0;
+  ConditionPtr condition;
+};
+
+// max_args for a condition that takes any number of arguments from min_args on.
+inline constexpr size_t kAnyNumberOfArgs = static_cast<size_t>(-1);
+
+struct ConditionType {
+  std::string name;  // 1 to 64 of [A-Za-z0-9_]
+  size_t min_args = 0, max_args = 0;
+  // The kind of each argument by position; positions past the end take the last kind.
+  std::vector<ConditionArgKind> kinds;
+  // Called with min_args to max_args arguments of the declared kinds (the parser has checked
+  // both); fills in defaults for the arguments left out.
+  std::function<ConditionPtr(const std::vector<ConditionArg>&)> make;
+};
+
+class ConditionRegistry {
+ public:
+  // Throws std::invalid_argument for a taken or malformed name, arities that do not make
+  // sense, no argument kinds where arguments are taken, or no make.
+  void add(ConditionType type);
+  const ConditionType* find(const std::string& name) const;
+  // In the order they were added: the built-ins in the order of docs/conditions.md, then any
+  // a program adds.
+  std::vector<std::string> names() const;
+
+ private:
+  std::vector<ConditionType> types_;
+};
+
+// The process's registry: the built-in conditions above, and any registered since.
+ConditionRegistry& condition_registry();
+
+// Adds a condition to condition_registry() when the program starts, so a user's condition is
+// one file of the executable that uses it (a static library's unreferenced file is dropped by
+// the linker: list the file in the executable's sources):
+//   static const ConditionRegistration kTaller{{"taller", 2, 2, {ConditionArgKind::kName},
+//       [](const std::vector<ConditionArg>& a) { return taller(a[0].name, a[1].name); }}};
+// Throws (ending the program at start) what ConditionRegistry::add throws.
+struct ConditionRegistration {
+  explicit ConditionRegistration(ConditionType type);
+};
+
+// Parses the text form with `registry`'s conditions. Throws std::invalid_argument naming the
+// position and what was expected ("condition 'near(cup)': near takes 2 to 3 arguments, not
+// 1"; an unknown name lists the known ones), also for conditions nested more than
+// kMaxConditionDepth calls deep.
 inline constexpr int kMaxConditionDepth = 64;
-ConditionPtr parse_condition(const std::string& text);
+ConditionPtr parse_condition(const std::string& text,
+                             const ConditionRegistry& registry = condition_registry());
 
 // Whether `point` (world) is inside the head camera's field of view and range now; for a box,
 // whether one of its 27 corner, edge-centre, face-centre and centre points is.

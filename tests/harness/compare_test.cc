@@ -8,13 +8,13 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/compare.h"
-#include "harness/compare_job.h"
-#include "harness/html_report.h"
-#include "harness/paired_stats.h"
-#include "harness/planner_comparison.h"
-#include "harness/run_job.h"
-#include "harness/trial_record.h"
+#include "harness/compare/compare.h"
+#include "harness/compare/compare_job.h"
+#include "harness/compare/html_report.h"
+#include "harness/compare/paired_stats.h"
+#include "harness/compare/planner_comparison.h"
+#include "harness/results/trial_record.h"
+#include "harness/run/run_job.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"

@@ -8,8 +8,8 @@
 
 #include <cmath>
 
-#include "harness/scenario.h"
-#include "harness/trial.h"
+#include "harness/run/trial.h"
+#include "harness/scenario/scenario.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"
 

@@ -11,12 +11,12 @@
 #include <set>
 #include <sstream>
 
-#include "harness/compare_job.h"
-#include "harness/merge_job.h"
-#include "harness/run_job.h"
-#include "harness/trajectory_file.h"
-#include "harness/trial_matrix.h"
-#include "harness/trial_record.h"
+#include "harness/compare/compare_job.h"
+#include "harness/replay/trajectory_file.h"
+#include "harness/results/trial_record.h"
+#include "harness/run/merge_job.h"
+#include "harness/run/run_job.h"
+#include "harness/scenario/trial_matrix.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"

@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "harness/scenario.h"
-#include "harness/trial.h"
+#include "harness/run/trial.h"
+#include "harness/scenario/scenario.h"
 #include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/programs/primitives.h"

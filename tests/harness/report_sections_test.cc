@@ -5,10 +5,10 @@
 
 #include <cmath>
 
-#include "harness/path_quality.h"
-#include "harness/power.h"
-#include "harness/provenance_diff.h"
-#include "harness/report_table.h"
+#include "harness/compare/path_quality.h"
+#include "harness/compare/power.h"
+#include "harness/compare/provenance_diff.h"
+#include "harness/report/report_table.h"
 
 namespace taskmatrix::harness {
 namespace {

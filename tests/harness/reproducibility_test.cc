@@ -20,8 +20,8 @@
 #include <iterator>
 #include <map>
 
-#include "harness/trajectory_file.h"
-#include "harness/trial_record.h"
+#include "harness/replay/trajectory_file.h"
+#include "harness/results/trial_record.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::harness {

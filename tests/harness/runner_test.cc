@@ -17,12 +17,12 @@
 
 #include <mujoco/mujoco.h>
 
-#include "harness/replay.h"
-#include "harness/run_job.h"
-#include "harness/trajectory_file.h"
-#include "harness/trial.h"
-#include "harness/trial_record.h"
-#include "harness/trial_schema.h"
+#include "harness/replay/replay.h"
+#include "harness/replay/trajectory_file.h"
+#include "harness/results/trial_record.h"
+#include "harness/results/trial_schema.h"
+#include "harness/run/run_job.h"
+#include "harness/run/trial.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"

@@ -5,11 +5,11 @@
 #include <fstream>
 #include <map>
 
-#include "harness/run_job.h"
-#include "harness/scenario.h"
-#include "harness/summary.h"
-#include "harness/trial.h"
-#include "harness/trial_matrix.h"
+#include "harness/results/summary.h"
+#include "harness/run/run_job.h"
+#include "harness/run/trial.h"
+#include "harness/scenario/scenario.h"
+#include "harness/scenario/trial_matrix.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"

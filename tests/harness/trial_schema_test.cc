@@ -1,7 +1,7 @@
 // The trial-record schema (harness/trial_schema.h) drives what the run's outputs hold: a field
 // added to the table reaches summary.json and ompl.log with no change to those writers; compare
 // judges its exact work counts; docs/architecture.md shows the same table.
-#include "harness/trial_schema.h"
+#include "harness/results/trial_schema.h"
 
 #include <algorithm>
 #include <fstream>
@@ -11,9 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include "harness/compare.h"
-#include "harness/ompl_log.h"
-#include "harness/summary.h"
+#include "harness/compare/compare.h"
+#include "harness/results/ompl_log.h"
+#include "harness/results/summary.h"
 
 namespace taskmatrix::harness {
 namespace {

@@ -16,10 +16,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/replay.h"
-#include "harness/trajectory_file.h"
-#include "harness/trial_record.h"
-#include "harness/trial_video.h"
+#include "harness/replay/replay.h"
+#include "harness/replay/trajectory_file.h"
+#include "harness/replay/trial_video.h"
+#include "harness/results/trial_record.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"

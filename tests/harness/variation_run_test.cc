@@ -6,11 +6,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/replay.h"
-#include "harness/run_job.h"
-#include "harness/scenario.h"
-#include "harness/trajectory_file.h"
-#include "harness/trial_record.h"
+#include "harness/replay/replay.h"
+#include "harness/replay/trajectory_file.h"
+#include "harness/results/trial_record.h"
+#include "harness/run/run_job.h"
+#include "harness/scenario/scenario.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/programs/primitives.h"

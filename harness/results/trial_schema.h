@@ -1,0 +1,141 @@
+// The trial record's fields in one table: what each holds and in which unit, whether it is a
+// timing (depends on the machine and its load), how summary.json summarises it, whether it is
+// a property of the Planner Arena log (ompl.log) and of which type there, and whether it is an
+// exact work count (repeats exactly for the same trial id; `compare --exact-work` requires it).
+// trial_record.cc (the fields a trial without a result nulls), summary.cc, ompl_log.cc and
+// compare.cc (the work counts, which the reports show) take their field lists from here; the
+// table in docs/architecture.md is checked against it by a test.
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace taskmatrix::harness {
+
+// Who writes a field: the trial's identity (from the trial matrix), its outcome, a worker's
+// measurement (null when the worker produced no result: a crash, a kill), or the runner.
+enum class FieldSource { kIdentity, kOutcome, kMeasured, kRunner };
+
+// summary.json's statistic of a field per group: none, the median, or median, p90 and n.
+enum class FieldSummary { kNone, kMedian, kMedianP90 };
+
+// A Planner Arena property's type in ompl.log (kNone: not a property).
+enum class OmplType { kNone, kReal, kInteger, kBoolean, kEnum };
+
+struct TrialField {
+  std::string_view name;
+  std::string_view unit;  // "s", "m", "rad or m", "count", ...; "" for text and structures
+  FieldSource source;
+  bool timing;  // measured on the clock: varies with the machine and its load
+  FieldSummary summary;
+  std::string_view ompl_property;  // its name in ompl.log; "" when not a property
+  OmplType ompl_type;
+  bool exact_work;  // an exact work count, which depends on the trial id alone
+  std::string_view doc;
+};
+
+// The table, in the order ompl.log lists its properties and compare its work counts.
+inline constexpr std::array kTrialFields = {
+    TrialField{"trial_id", "", FieldSource::kIdentity, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "scenario.robot.environment.planner.l(layout seed).s(seed)"},
+    TrialField{"scenario", "", FieldSource::kIdentity, false, FieldSummary::kNone, "scenario",
+               OmplType::kEnum, false, "the scenario's name"},
+    TrialField{"robot", "", FieldSource::kIdentity, false, FieldSummary::kNone, "robot",
+               OmplType::kEnum, false, "the robot's name"},
+    TrialField{"environment", "", FieldSource::kIdentity, false, FieldSummary::kNone, "environment",
+               OmplType::kEnum, false, "the environment's name"},
+    TrialField{"program", "", FieldSource::kIdentity, false, FieldSummary::kNone, "program",
+               OmplType::kEnum, false, "the scenario's program"},
+    TrialField{"planner", "", FieldSource::kIdentity, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "the planner's label in the scenario"},
+    TrialField{"planner_name", "", FieldSource::kIdentity, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "the registered planner it runs"},
+    TrialField{"execution", "", FieldSource::kIdentity, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "physics, kinematic or physics_unpruned"},
+    TrialField{"seed", "", FieldSource::kIdentity, false, FieldSummary::kNone, "seed",
+               OmplType::kInteger, false, "the programs' seed"},
+    TrialField{"layout_seed", "", FieldSource::kIdentity, false, FieldSummary::kNone, "layout seed",
+               OmplType::kInteger, false, "the seed of the drawn world"},
+    TrialField{"success", "", FieldSource::kOutcome, false, FieldSummary::kNone, "solved",
+               OmplType::kBoolean, false, "set-up, program and success condition all held"},
+    TrialField{"status", "", FieldSource::kOutcome, false, FieldSummary::kNone, "trial status",
+               OmplType::kEnum, false, "success, or the failure's code"},
+    TrialField{"failure_reason", "", FieldSource::kOutcome, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "the failure as a user reads it (600 characters at most)"},
+    TrialField{"planning_time_s", "s", FieldSource::kMeasured, true, FieldSummary::kMedianP90,
+               "time", OmplType::kReal, false, "planners' solve time, over the plan calls"},
+    TrialField{"simplification_time_s", "s", FieldSource::kMeasured, true, FieldSummary::kMedian,
+               "simplification time", OmplType::kReal, false, "path simplification time"},
+    TrialField{"collision_checks", "count", FieldSource::kMeasured, false, FieldSummary::kMedian,
+               "collision checks", OmplType::kInteger, true,
+               "the planners' validity checks and is_valid queries"},
+    TrialField{"plan_calls", "count", FieldSource::kMeasured, false, FieldSummary::kMedian,
+               "plan calls", OmplType::kInteger, true, "the programs' plan requests"},
+    TrialField{"planner_runs", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
+               OmplType::kNone, true, "planner runs behind the plan calls (one per pose tried)"},
+    TrialField{"ik_calls", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
+               OmplType::kNone, true, "inverse kinematics solves"},
+    TrialField{"ik_time_s", "s", FieldSource::kMeasured, true, FieldSummary::kNone, "ik time",
+               OmplType::kReal, false, "inverse kinematics time, pose goals of plans included"},
+    TrialField{"path_length_joint", "rad or m", FieldSource::kMeasured, false,
+               FieldSummary::kMedian, "path length joint", OmplType::kReal, false,
+               "the executed path of all joints"},
+    TrialField{"path_length_ee_m", "m", FieldSource::kMeasured, false, FieldSummary::kMedian,
+               "path length ee", OmplType::kReal, false, "the executed path of the end effectors"},
+    TrialField{"duration_s", "s (simulated)", FieldSource::kMeasured, false, FieldSummary::kMedian,
+               "duration", OmplType::kReal, false, "the program's simulated time, set-up excluded"},
+    TrialField{"sim_time_s", "s (simulated)", FieldSource::kMeasured, false, FieldSummary::kNone,
+               "", OmplType::kNone, false, "the whole trial's simulated time"},
+    TrialField{"smoothness", "rad/s^3", FieldSource::kMeasured, false, FieldSummary::kMedian,
+               "smoothness", OmplType::kReal, false, "RMS joint jerk of the executed motion"},
+    TrialField{"min_clearance_m", "m", FieldSource::kMeasured, false, FieldSummary::kMedian,
+               "min clearance", OmplType::kReal, false,
+               "smallest distance of the moving chains to anything"},
+    TrialField{"clearance_samples", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "states whose clearance was measured"},
+    TrialField{"control_periods", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "control periods simulated"},
+    TrialField{"trial_wall_s", "s", FieldSource::kMeasured, true, FieldSummary::kNone, "",
+               OmplType::kNone, false, "wall clock inside the trial"},
+    TrialField{"executive_wall_s", "s", FieldSource::kMeasured, true, FieldSummary::kNone, "",
+               OmplType::kNone, false, "wall clock inside the executive"},
+    TrialField{"stepping_wall_s", "s", FieldSource::kMeasured, true, FieldSummary::kNone, "",
+               OmplType::kNone, false, "wall clock stepping the simulation"},
+    TrialField{"monitoring_wall_s", "s", FieldSource::kMeasured, true, FieldSummary::kNone, "",
+               OmplType::kNone, false, "wall clock monitoring execution (collisions, clearance)"},
+    TrialField{"contacts_per_pass", "contacts", FieldSource::kMeasured, false, FieldSummary::kNone,
+               "", OmplType::kNone, false, "contacts per collision pass of execution"},
+    TrialField{"events", "", FieldSource::kOutcome, false, FieldSummary::kNone, "", OmplType::kNone,
+               false, "the programs' messages with simulated times"},
+    TrialField{"layout", "", FieldSource::kOutcome, false, FieldSummary::kNone, "", OmplType::kNone,
+               false, "the drawn world: task variation and obstacles"},
+    TrialField{"plans", "", FieldSource::kOutcome, false, FieldSummary::kNone, "", OmplType::kNone,
+               false, "per plan call: status, times, counts, path digest"},
+    TrialField{"clock_bound_hit", "", FieldSource::kOutcome, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "the clock bounds that decided the trial"},
+    TrialField{"removed_debris", "", FieldSource::kOutcome, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "debris a tool removed"},
+    TrialField{"trajectory", "", FieldSource::kRunner, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "the recorded states' file, relative to the run"},
+    TrialField{"trajectory_frames", "count", FieldSource::kRunner, false, FieldSummary::kNone, "",
+               OmplType::kNone, false, "frames in it"},
+    TrialField{"wall_time_s", "s", FieldSource::kRunner, true, FieldSummary::kMedian, "wall time",
+               OmplType::kReal, false, "the worker's wall clock, fork to reaped"},
+    TrialField{"peak_memory_mb", "MB", FieldSource::kRunner, true, FieldSummary::kMedian, "memory",
+               OmplType::kReal, false, "the worker's peak resident memory"},
+    TrialField{"cpu_time_s", "s", FieldSource::kRunner, true, FieldSummary::kNone, "",
+               OmplType::kNone, false, "the worker's user and system CPU time"},
+    TrialField{"overhead_s", "s", FieldSource::kRunner, true, FieldSummary::kNone, "",
+               OmplType::kNone, false, "wall_time_s minus executive_wall_s"},
+};
+
+// The exact work counts (compare's --exact-work fields), in table order.
+std::vector<std::string> exact_work_fields();
+// "REAL", "INTEGER", "BOOLEAN", "ENUM".
+const char* to_string(OmplType type);
+// The table as docs/architecture.md holds it (Markdown).
+std::string trial_fields_markdown();
+
+}  // namespace taskmatrix::harness
