@@ -132,8 +132,8 @@ TEST(UnprunedPhysics, KeepsTheOutcomeAndComputesMoreContacts) {
   const TrialResult pruned = run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, {});
   s.execution = "physics_unpruned";
   const TrialResult unpruned = run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, {});
-  EXPECT_TRUE(pruned.success) << pruned.failure_reason;
-  EXPECT_EQ(pruned.status, unpruned.status) << unpruned.failure_reason;
+  EXPECT_TRUE(pruned.success) << trial_failure_reason(pruned);
+  EXPECT_EQ(trial_status(pruned), trial_status(unpruned)) << trial_failure_reason(unpruned);
   EXPECT_EQ(pruned.work.plans.size(), unpruned.work.plans.size());
   ASSERT_GT(pruned.work.contact_passes, 0);
   ASSERT_GT(unpruned.work.contact_passes, 0);
