@@ -65,7 +65,7 @@ struct PlannerBudgets {
 };
 
 struct WorkCountChange {
-  std::string field;                     // an exact work count of harness/trial_schema.h
+  std::string field;                     // an exact work count of harness/results/trial_schema.h
   double base_total = 0, new_total = 0;  // over pairs where both trials have the count
   int changed_trials = 0;                // pairs whose counts differ
   int missing = 0;  // pairs where either lacks it (null: a crash or kill), left out of totals

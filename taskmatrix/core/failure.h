@@ -17,7 +17,7 @@
 namespace taskmatrix::core {
 
 // The statuses of a failed trial. The first ones keep the order of the trial-status enum in
-// the Planner Arena log (harness/ompl_log.cc), whose indices logs of different runs share:
+// the Planner Arena log (harness/results/ompl_log.cc), whose indices logs of different runs share:
 // add new codes at the end.
 enum class FailureCode {
   kCrash,                // the runner's: the worker died (a signal, mju_error, ...)

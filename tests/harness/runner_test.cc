@@ -161,7 +161,7 @@ TEST_F(Runner, ResultsAreTheSameForAnyNumberOfJobsAndFromATrialIdAlone) {
                             "trajectory"}) {
       EXPECT_TRUE(t.contains(key)) << id << " lacks " << key;
     }
-    // The record holds the schema's fields (harness/trial_schema.h), and no other.
+    // The record holds the schema's fields (harness/results/trial_schema.h), and no other.
     for (const TrialField& f : kTrialFields) {
       EXPECT_TRUE(t.contains(std::string(f.name))) << id << " lacks schema field " << f.name;
     }

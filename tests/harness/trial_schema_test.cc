@@ -1,6 +1,6 @@
-// The trial-record schema (harness/trial_schema.h) drives what the run's outputs hold: a field
-// added to the table reaches summary.json and ompl.log with no change to those writers; compare
-// judges its exact work counts; docs/architecture.md shows the same table.
+// The trial-record schema (harness/results/trial_schema.h) drives what the run's outputs hold: a
+// field added to the table reaches summary.json and ompl.log with no change to those writers;
+// compare judges its exact work counts; docs/architecture.md shows the same table.
 #include "harness/results/trial_schema.h"
 
 #include <algorithm>
@@ -113,7 +113,7 @@ TEST(TrialSchema, TheArchitectureDocShowsTheTable) {
   ASSERT_NE(b, std::string::npos) << path << " lacks " << begin;
   ASSERT_NE(e, std::string::npos) << path << " lacks " << end;
   EXPECT_EQ(doc.substr(b + begin.size(), e - b - begin.size()), trial_fields_markdown())
-      << "docs/architecture.md's trial record table differs from harness/trial_schema.h; "
+      << "docs/architecture.md's trial record table differs from harness/results/trial_schema.h; "
          "replace it with:\n"
       << trial_fields_markdown();
 }
