@@ -43,6 +43,7 @@
 #include "harness/run/trial.h"
 #include "harness/scenario/model_catalog.h"
 #include "harness/scenario/trial_matrix.h"
+#include "taskmatrix/mujoco/mujoco_backend.h"
 #include "taskmatrix/programs/primitives.h"
 
 namespace {
@@ -136,9 +137,9 @@ void BM_RunSuite_RawStepping(benchmark::State& state) {
                                     catalog.environment_dir(spec.environment));
       }
       // The trial's world and start state as its worker has them, nothing pruned.
-      mujoco::WorkerScene worker(scene);
-      const core::TrialLayout layout = harness::draw_trial_layout(
-          plan.scenarios[static_cast<size_t>(spec.scenario)], worker, spec.layout_seed, spec.id);
+      const core::TrialLayout layout =
+          harness::draw_trial_layout(plan.scenarios[static_cast<size_t>(spec.scenario)],
+                                     mujoco::MujocoLoadedScene(scene), spec.layout_seed, spec.id);
       mujoco::SimulationOptions options;
       options.pruning = {false, false};
       mujoco::MujocoSkillset skills(scene, options);

@@ -20,6 +20,7 @@
 #include <map>
 #include <sstream>
 
+#include "harness/backends/backends.h"
 #include "harness/run/trial.h"
 #include "harness/scenario/model_catalog.h"
 #include "harness/scenario/scenario.h"
@@ -32,11 +33,12 @@ using namespace taskmatrix;
 struct Fixture {
   harness::ModelCatalog catalog{TASKMATRIX_BENCH_ROOT};
   core::ProgramRegistry registry;
-  std::shared_ptr<const mujoco::Scene> scene;
+  std::shared_ptr<const core::LoadedScene> scene;
 
   Fixture() {
     programs::register_programs(registry);
-    scene = mujoco::Scene::load(catalog.robot_dir("tallbot"), catalog.environment_dir("kitchen"));
+    scene =
+        harness::backend().load(catalog.robot_dir("tallbot"), catalog.environment_dir("kitchen"));
   }
 
   harness::Scenario scenario(const std::string& program) {
@@ -66,12 +68,12 @@ void BM_Trial(benchmark::State& state, const std::string& program) {
   double success = 0, plan_calls = 0, checks = 0, ik_calls = 0, raw_work = 0, wall = 0;
   for (auto _ : state) {
     const harness::TrialResult r =
-        harness::run_trial(s, f.scene, s.layout_seed, s.seed, f.registry);
+        harness::run_trial(s, *f.scene, s.layout_seed, s.seed, f.registry);
     const std::string counters = exact_counters(r);
     const auto [seen, first] = first_seen.emplace(program, counters);
     if (!first && seen->second != counters) {
       bool hit_bound = false;
-      for (const mujoco::PlanCallRecord& p : r.work.plans)
+      for (const core::PlanCallRecord& p : r.work.plans)
         hit_bound = hit_bound || p.simplification_hit_time_limit || p.planning_hit_time_limit;
       state.SkipWithError(("not deterministic: " + counters + " after " + seen->second +
                            (hit_bound ? " (a clock safety net of planning or simplification "

@@ -38,6 +38,15 @@ std::shared_ptr<const mujoco::Scene> scene(const std::string& robot,
   return s;
 }
 
+std::shared_ptr<const core::LoadedScene> loaded_scene(const std::string& robot,
+                                                      const std::string& environment) {
+  return std::make_shared<mujoco::MujocoLoadedScene>(scene(robot, environment));
+}
+
+const mujoco::MujocoSkillset& mujoco_skills(const core::TrialWorld& world) {
+  return dynamic_cast<const mujoco::MujocoTrialWorld&>(world).mujoco_skills();
+}
+
 std::vector<RobotEnv> all_robot_environment_pairs() {
   std::vector<RobotEnv> out;
   for (const auto& r : catalog().robots()) {

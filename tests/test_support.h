@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "harness/scenario/model_catalog.h"
+#include "taskmatrix/mujoco/mujoco_backend.h"
 #include "taskmatrix/mujoco/scene.h"
 
 namespace taskmatrix::test {
@@ -22,6 +23,11 @@ const harness::ModelCatalog& catalog();
 // Compiled once per process and shared, as workers share them.
 std::shared_ptr<const mujoco::Scene> scene(const std::string& robot,
                                            const std::string& environment);
+// The same scene behind the harness's backend interface (core/backend.h), for run_trial.
+std::shared_ptr<const core::LoadedScene> loaded_scene(const std::string& robot,
+                                                      const std::string& environment);
+// The MuJoCo skillset of a trial's world (a trial observer's argument).
+const mujoco::MujocoSkillset& mujoco_skills(const core::TrialWorld& world);
 
 struct RobotEnv {
   std::string robot, environment;

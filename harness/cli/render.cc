@@ -5,12 +5,14 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "harness/backends/backends.h"
 #include "harness/cli/verb.h"
 #include "harness/replay/replay.h"
 #include "harness/replay/trial_video.h"
 #include "harness/run/trial.h"
 #include "harness/scenario/scenario.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/mujoco/mujoco_backend.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/mujoco/scene.h"
 
@@ -69,14 +71,18 @@ int render(const ModelCatalog& catalog, core::ProgramRegistry& programs, const R
     throw core::InputError("render", "", "needs --robot and --env, or --trial");
   }
   if (o.out.empty()) throw core::InputError("render", "", "needs --out F.png");
-  auto scene = mj::Scene::load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
+  const std::shared_ptr<const core::LoadedScene> loaded =
+      backend().load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
+  // Pictures are the MuJoCo backend's (its offscreen renderer).
+  const std::shared_ptr<const mj::Scene>& scene = mj::scene_of(*loaded);
   mj::WorkerScene worker(scene);
   if (o.scenario.empty()) {
     worker.apply_layout(scene->make_layout(o.obstacles, static_cast<std::uint64_t>(o.seed)));
   } else {
     const Scenario s = load_run_plan(o.scenario, catalog, programs).scenarios.at(0);
-    draw_trial_layout(s, worker, static_cast<std::uint64_t>(o.seed),
-                      "--seed " + std::to_string(o.seed));
+    worker.apply(draw_trial_layout(s, *loaded, static_cast<std::uint64_t>(o.seed),
+                                   "--seed " + std::to_string(o.seed)));
+    worker.reset_to_start();
   }
   std::vector<double> qpos = worker.start_qpos();
   try {

@@ -5,6 +5,7 @@
 
 #include "harness/cli/verb.h"
 #include "harness/run/run_job.h"
+#include "harness/scenario/scenario.h"
 
 namespace taskmatrix::harness::cli {
 namespace {
@@ -26,8 +27,8 @@ class Run final : public Verb {
         ->check(CLI::Range(1LL, 4294967295LL));
     run->add_option("--planners", planners_, "planners, comma separated (replaces the scenario's)");
     run->add_option("--execution", options_.overrides.execution,
-                    "physics, kinematic or physics_unpruned (replaces the scenario's)")
-        ->check(CLI::IsMember({"physics", "kinematic", "physics_unpruned"}));
+                    execution_modes_text() + " (replaces the scenario's)")
+        ->check(CLI::IsMember(execution_modes()));
     run->add_flag("--resume", options_.resume,
                   "keep the trials already in the run directory, run the rest");
     CLI::Option* only = run->add_option("--only", options_.only,

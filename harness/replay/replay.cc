@@ -2,8 +2,10 @@
 
 #include <algorithm>
 
+#include "harness/backends/backends.h"
 #include "harness/results/trial_record.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/mujoco/mujoco_backend.h"
 
 namespace taskmatrix::harness {
 
@@ -35,8 +37,8 @@ std::filesystem::path trajectory_of(const std::string& run_dir_and_trial) {
 
 Replay::Replay(const ModelCatalog& catalog, TrajectoryFile trajectory)
     : trajectory_(std::move(trajectory)),
-      scene_(mujoco::Scene::load(catalog.robot_dir(trajectory_.robot),
-                                 catalog.environment_dir(trajectory_.environment))),
+      scene_(mujoco::scene_of(*backend().load(catalog.robot_dir(trajectory_.robot),
+                                              catalog.environment_dir(trajectory_.environment)))),
       worker_(scene_) {
   if (trajectory_.recording.nq != worker_.model()->nq) {
     throw core::InputError("trajectory", "nq",
@@ -64,7 +66,7 @@ size_t Replay::frame_at(double t) const {
 }
 
 void Replay::show(size_t frame) {
-  const mujoco::StateRecording& r = trajectory_.recording;
+  const core::StateRecording& r = trajectory_.recording;
   if (frame >= r.frames()) throw std::out_of_range("replay frame out of range");
   mjModel* m = worker_.model();
   mjData* d = worker_.data();

@@ -44,7 +44,7 @@ float float_of(std::uint32_t b) {
 }  // namespace
 
 void write_trajectory_file(const std::filesystem::path& file, const TrajectoryFile& t) {
-  const mujoco::StateRecording& r = t.recording;
+  const core::StateRecording& r = t.recording;
   nlohmann::json header;
   header["robot"] = t.robot;
   header["environment"] = t.environment;

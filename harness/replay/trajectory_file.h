@@ -13,15 +13,15 @@
 #include <string>
 
 #include "taskmatrix/core/obstacle_layout.h"
+#include "taskmatrix/core/state_recording.h"
 #include "taskmatrix/core/task_variation.h"
-#include "taskmatrix/mujoco/work_record.h"
 
 namespace taskmatrix::harness {
 
 struct TrajectoryFile {
   std::string robot, environment;
   core::ObstacleLayout layout;
-  mujoco::StateRecording recording;
+  core::StateRecording recording;
   std::vector<std::string> removed_bodies;  // body names, parallel to recording.removals
   core::TaskVariation variation{};          // empty: nothing varied
 };

@@ -36,7 +36,7 @@ nlohmann::json identity(const RunPlan& plan, const TrialSpec& spec) {
 
 nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const TrialResult& r) {
   nlohmann::json j = identity(plan, spec);
-  const mujoco::WorkRecord& w = r.work;
+  const core::WorkRecord& w = r.work;
   j["success"] = r.success;
   j["status"] = trial_status(r);
   j["failure_reason"] = trial_failure_reason(r);
@@ -73,7 +73,7 @@ nlohmann::json trial_json(const RunPlan& plan, const TrialSpec& spec, const Tria
   j["events"] = std::move(events);
   j["layout"] = layout_json(r.layout);
   nlohmann::json plans = nlohmann::json::array();
-  for (const mujoco::PlanCallRecord& p : w.plans) {
+  for (const core::PlanCallRecord& p : w.plans) {
     plans.push_back({{"t", p.time_s},
                      {"kind", p.kind},
                      {"status", p.status},

@@ -1,7 +1,6 @@
 // What one trial measured (harness/run/trial.h runs it; harness/results/trial_record.h writes
 // it as a line of trials.jsonl). Plain data: reading, comparing and reporting on results needs
-// no backend. The work record is core's; the state recording (for replays) is the backend's
-// (taskmatrix/mujoco/work_record.h: plain structs of numbers and strings, no MuJoCo types).
+// no backend: the work record and the state recording (for replays) are core's plain structs.
 #pragma once
 
 #include <optional>
@@ -10,9 +9,9 @@
 
 #include "taskmatrix/core/executive.h"
 #include "taskmatrix/core/failure.h"
+#include "taskmatrix/core/state_recording.h"
 #include "taskmatrix/core/task_variation.h"
 #include "taskmatrix/core/work_record.h"
-#include "taskmatrix/mujoco/work_record.h"
 
 namespace taskmatrix::harness {
 
@@ -46,7 +45,7 @@ struct TrialResult {
   std::vector<TrialEvent> events;
   std::vector<core::Message> log;  // every message, set-up included
   std::vector<core::RecordedSeries> series;
-  mujoco::StateRecording recording;  // empty unless asked for
+  core::StateRecording recording;  // empty unless asked for
   std::vector<std::string> removed_debris;
   core::TrialLayout layout;  // the drawn world: task variation and obstacles
 };

@@ -5,10 +5,12 @@
 #include <ostream>
 #include <sstream>
 
+#include "harness/backends/backends.h"
 #include "harness/results/summary.h"
 #include "harness/results/trial_record.h"
 #include "harness/run/run_job.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/mujoco/mujoco_backend.h"
 #include "taskmatrix/mujoco/robot_check.h"
 #include "taskmatrix/mujoco/scene.h"
 
@@ -50,7 +52,8 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
   std::shared_ptr<const mujoco::Scene> home;
   for (const std::string& env : catalog.environments()) {
     try {
-      scenes.push_back(mujoco::Scene::load(robot_dir, catalog.environment_dir(env)));
+      // The robot checks are the MuJoCo backend's (its kinematics).
+      scenes.push_back(mujoco::scene_of(*backend().load(robot_dir, catalog.environment_dir(env))));
     } catch (const core::InputError& e) {
       findings.push_back(
           {RobotFinding::Level::kError, "load", std::string("in ") + env + ": " + e.what()});

@@ -1,6 +1,6 @@
 // `taskmatrix merge OUT SHARD_DIR...`: unions the run directories of a sharded run (`run
-// --shard I/N`, harness/scenario/trial_matrix.h) into one run directory, as if one machine had run the
-// whole matrix.
+// --shard I/N`, harness/scenario/trial_matrix.h) into one run directory, as if one machine had run
+// the whole matrix.
 //
 // Before anything is written it checks that every shard directory comes from
 //   - the same suite: the SHA-256 of the scenario files (provenance `scenario_hash`), which

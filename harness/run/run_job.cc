@@ -11,8 +11,7 @@
 #include <ostream>
 #include <set>
 
-#include <mujoco/mujoco.h>
-
+#include "harness/backends/backends.h"
 #include "harness/compare/planner_comparison.h"
 #include "harness/compare/power.h"
 #include "harness/replay/trajectory_file.h"
@@ -29,7 +28,6 @@
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/motion_planning.h"
 #include "taskmatrix/io/text_file.h"
-#include "taskmatrix/mujoco/scene.h"
 
 namespace taskmatrix::harness {
 
@@ -37,7 +35,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using SceneMap =
-    std::map<std::pair<std::string, std::string>, std::shared_ptr<const mujoco::Scene>>;
+    std::map<std::pair<std::string, std::string>, std::shared_ptr<const core::LoadedScene>>;
 
 constexpr size_t kMaxTrialIdLength = 200;
 
@@ -94,7 +92,6 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
     p.matrix = {parse_trial_id(p.plan, only)};
     p.whole_matrix = 1;
   }
-  std::map<std::pair<std::string, std::string>, std::unique_ptr<mujoco::WorkerScene>> workers;
   for (const TrialSpec& t : p.matrix) {
     // The id names the trial's trajectory file (at most 255 bytes with its suffix).
     if (t.id.size() > kMaxTrialIdLength) {
@@ -106,13 +103,10 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
     }
     auto& scene = p.scenes[{t.robot, t.environment}];
     if (!scene) {
-      scene =
-          mujoco::Scene::load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
+      scene = backend().load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
     }
-    auto& worker = workers[{t.robot, t.environment}];
-    if (!worker) worker = std::make_unique<mujoco::WorkerScene>(scene);
     const Scenario& s = p.plan.scenarios[static_cast<size_t>(t.scenario)];
-    p.layouts[t.id] = draw_trial_layout(s, *worker, t.layout_seed, t.id);
+    p.layouts[t.id] = draw_trial_layout(s, *scene, t.layout_seed, t.id);
   }
   return p;
 }
@@ -351,7 +345,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     topt.planner = &s.planners[static_cast<size_t>(t.planner)];
     topt.record_rate_hz = keep_trajectories ? options.record_rate_hz : 0;
     topt.layout = &p.layouts.at(t.id);
-    const TrialResult r = run_trial(s, scene, t.layout_seed, t.seed, registry, nullptr, topt);
+    const TrialResult r = run_trial(s, *scene, t.layout_seed, t.seed, registry, nullptr, topt);
     nlohmann::json j = trial_json(plan, t, r);
     if (keep_trajectories) {
       TrajectoryFile file;
@@ -442,9 +436,6 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   return result;
 }
 
-std::string mujoco_version() {
-  const int v = mj_version();
-  return std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
-}
+std::string mujoco_version() { return backend("mujoco").version(); }
 
 }  // namespace taskmatrix::harness

@@ -1,7 +1,7 @@
 // `taskmatrix run`: a scenario or a suite, as a matrix of trials run in worker processes, with
 // results written as they finish. A run directory holds:
-//   trials.jsonl     one line per finished trial (harness/results/trial_record.h), flushed and synced
-//                    as each ends: a killed run loses no finished trial
+//   trials.jsonl     one line per finished trial (harness/results/trial_record.h), flushed
+//                    and synced as each ends: a killed run loses no finished trial
 //   trajectories/    the executed trajectory of each trial (harness/replay/trajectory_file.h)
 //   summary.json, summary.md, ompl.log (harness/results/summary.h, harness/results/ompl_log.h)
 //   provenance.json  (harness/results/provenance.h)

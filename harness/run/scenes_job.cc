@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <string>
 
+#include "harness/backends/backends.h"
 #include "taskmatrix/core/motion_planning.h"
+#include "taskmatrix/mujoco/mujoco_backend.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/mujoco/scene.h"
 
@@ -31,7 +33,9 @@ int run_scenes_job(const ModelCatalog& catalog, const ScenesJobOptions& options,
   for (const std::string& robot : catalog.robots()) {
     for (const std::string& env : catalog.environments()) {
       const auto t_load = std::chrono::steady_clock::now();
-      auto scene = mujoco::Scene::load(catalog.robot_dir(robot), catalog.environment_dir(env));
+      // Pictures are the MuJoCo backend's (its offscreen renderer).
+      const std::shared_ptr<const mujoco::Scene> scene =
+          mujoco::scene_of(*backend().load(catalog.robot_dir(robot), catalog.environment_dir(env)));
       const double load_ms = core::seconds_since(t_load) * 1e3;
       mujoco::WorkerScene worker(scene);
       mujoco::OffscreenRenderer renderer(scene->model(), options.width, options.height);

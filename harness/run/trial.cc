@@ -6,8 +6,6 @@
 #include "taskmatrix/core/conditions.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/motion_planning.h"
-#include "taskmatrix/mujoco/ground_truth_perception.h"
-#include "taskmatrix/mujoco/head_sensor.h"
 
 namespace taskmatrix::harness {
 
@@ -45,7 +43,7 @@ std::optional<core::Failure> run_program(core::Executive& executive, const Progr
 
 }  // namespace
 
-core::TrialLayout draw_trial_layout(const Scenario& scenario, mujoco::WorkerScene& worker,
+core::TrialLayout draw_trial_layout(const Scenario& scenario, const core::LoadedScene& scene,
                                     std::uint64_t layout_seed, const std::string& trial_id) {
   auto fail = [&](const std::string& key, const std::string& why) -> core::InputError {
     const bool varied = key.rfind("obstacles", 0) != 0;
@@ -54,71 +52,48 @@ core::TrialLayout draw_trial_layout(const Scenario& scenario, mujoco::WorkerScen
                             line_of(scenario.key_lines, key));
   };
   core::TrialLayout layout;
+  std::vector<core::StartContact> contacts;
   try {
-    layout = worker.scene().make_trial_layout(scenario.obstacles, scenario.variation, layout_seed);
-    worker.apply(layout);
+    layout = scene.make_trial_layout(scenario.obstacles, scenario.variation, layout_seed);
+    contacts = scene.start_contacts(layout);
   } catch (const core::LayoutError& e) {
     throw fail(e.key().empty() ? "obstacles" : e.key(), e.what());
   } catch (const core::InputError& e) {
     throw fail("obstacles", e.what());
   }
-  worker.reset_to_start();
-  const mjModel* m = worker.model();
-  const mjData* d = worker.data();
-  const mujoco::Scene& scene = worker.scene();
-  auto name = [&](int geom) {
-    const char* n = mj_id2name(m, mjOBJ_GEOM, geom);
-    return n ? std::string(n) : "geom " + std::to_string(geom);
-  };
-  auto is_obstacle = [&](int geom) {
-    for (const mujoco::ObstacleSlot& slot : scene.obstacle_slots()) {
-      if (m->geom_bodyid[geom] == slot.body) return true;
-    }
-    return false;
-  };
   const core::VariationOptions& v = scenario.variation;
-  for (int i = 0; i < d->ncon; ++i) {
-    const mjContact& c = d->contact[i];
-    const bool robot = scene.is_robot_geom(c.geom1) || scene.is_robot_geom(c.geom2);
-    if (!robot && c.dist >= -0.001) continue;
-    const bool obstacle = is_obstacle(c.geom1) || is_obstacle(c.geom2);
-    const std::string key = obstacle                       ? "obstacles"
-                            : robot && v.robot_start       ? "robot_start"
-                            : !robot && !v.objects.empty() ? "objects"
-                            : !v.surfaces.empty()          ? "surfaces"
-                                                           : "obstacles";
+  for (const core::StartContact& c : contacts) {
+    const std::string key = c.obstacle                       ? "obstacles"
+                            : c.robot && v.robot_start       ? "robot_start"
+                            : !c.robot && !v.objects.empty() ? "objects"
+                            : !v.surfaces.empty()            ? "surfaces"
+                                                             : "obstacles";
     char depth[32];
-    std::snprintf(depth, sizeof depth, "%.1f", -c.dist * 1000);
-    throw fail(key, "at the start " + name(c.geom1) + " touches " + name(c.geom2) + " (depth " +
-                        depth + " mm)" +
-                        (robot ? ": the robot must start clear of everything" : ""));
+    std::snprintf(depth, sizeof depth, "%.1f", c.depth_m * 1000);
+    throw fail(key, "at the start " + c.first + " touches " + c.second + " (depth " + depth +
+                        " mm)" + (c.robot ? ": the robot must start clear of everything" : ""));
   }
   return layout;
 }
 
-TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
+TrialResult run_trial(const Scenario& scenario, const core::LoadedScene& scene,
                       std::uint64_t layout_seed, std::uint32_t seed,
                       const core::ProgramRegistry& registry, const TrialObserver& observe,
                       const TrialOptions& trial_options) {
   const auto t0 = std::chrono::steady_clock::now();
-  mujoco::SimulationOptions simulation;
-  simulation.execution = scenario.execution == "kinematic" ? mujoco::ExecutionMode::kKinematic
-                                                           : mujoco::ExecutionMode::kPhysics;
-  if (scenario.execution == "physics_unpruned") simulation.pruning = {false, false};
-  mujoco::MujocoSkillset skills(std::move(scene), simulation);
   TrialResult result;
   result.layout = trial_options.layout ? *trial_options.layout
-                                       : skills.scene().make_trial_layout(
-                                             scenario.obstacles, scenario.variation, layout_seed);
-  skills.apply_layout(result.layout);
-  if (trial_options.record_rate_hz > 0) skills.record_states(trial_options.record_rate_hz);
-  skills.set_visitor_walk(scenario.visitor_speed_mps);
-  std::unique_ptr<core::Perception> perception;
-  if (scenario.perception == "sensor") {
-    perception = std::make_unique<mujoco::SensorPerception>(skills);
-  } else {
-    perception = std::make_unique<mujoco::GroundTruthPerception>(skills);
-  }
+                                       : scene.make_trial_layout(scenario.obstacles,
+                                                                 scenario.variation, layout_seed);
+  core::TrialWorldOptions world_options;
+  world_options.execution = scenario.execution;
+  world_options.visitor_speed_mps = scenario.visitor_speed_mps;
+  world_options.record_rate_hz = trial_options.record_rate_hz;
+  const std::unique_ptr<core::TrialWorld> trial_world =
+      scene.make_trial_world(result.layout, world_options);
+  core::Skillset& skills = trial_world->skills();
+  const std::unique_ptr<core::Perception> perception =
+      trial_world->make_perception(scenario.perception);
   core::ExecutiveOptions options;
   options.plan.time_limit_s = scenario.plan_time_limit_s;
   options.plan.max_iterations =
@@ -150,11 +125,9 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
     }
     result.work = skills.work();
     result.sim_time_s = skills.time();
-    for (int body : skills.removed_debris()) {
-      result.removed_debris.push_back(mj_id2name(skills.model(), mjOBJ_BODY, body));
-    }
+    result.removed_debris = trial_world->removed_objects();
     if (trial_options.record_rate_hz > 0) result.recording = skills.recording();
-    if (observe) observe("end", skills);
+    if (observe) observe("end", *trial_world);
     result.trial_wall_s = core::seconds_since(t0);
     return result;
   };
@@ -174,7 +147,7 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
                                   (names_program ? "" : step.program + ": ") + failed->text()));
     }
   }
-  if (observe) observe("setup", skills);
+  if (observe) observe("setup", *trial_world);
   const double start = skills.time();
   std::optional<core::Failure> failed = timed_run(scenario.run);
   result.duration_s = skills.time() - start;
@@ -182,7 +155,7 @@ TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Sc
   if (!scenario.success.empty()) {
     // Judged on the world: exact perception of the final state.
     core::PerceptualModel truth;
-    mujoco::GroundTruthPerception(skills).update(skills.time(), truth);
+    trial_world->make_perception("ground_truth")->update(skills.time(), truth);
     const core::ConditionPtr criterion = core::parse_condition(scenario.success);
     const core::World world{skills, truth};
     if (!criterion->holds(world)) {

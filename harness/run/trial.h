@@ -1,5 +1,6 @@
-// One trial of a scenario: a robot in an environment with one obstacle layout. Builds a
-// worker skillset on the shared compiled scene, applies the layout and the visitor's walk,
+// One trial of a scenario: a robot in an environment with one obstacle layout. Makes the
+// trial's world from the shared loaded scene (core/backend.h) with the layout and the visitor's
+// walk,
 // runs the set-up programs (each must complete), then the scenario's program within its time
 // limit, and judges success on the world as it is at the end (ground-truth perception, so a
 // sensor's misses cannot fake a success).
@@ -13,14 +14,13 @@
 
 #include "harness/results/trial_result.h"
 #include "harness/scenario/scenario.h"
+#include "taskmatrix/core/backend.h"
 #include "taskmatrix/core/executive.h"
-#include "taskmatrix/mujoco/mujoco_skillset.h"
 
 namespace taskmatrix::harness {
 
 // Called after set-up and at the end, for looking at the trial (renders).
-using TrialObserver =
-    std::function<void(const std::string& moment, const mujoco::MujocoSkillset& skills)>;
+using TrialObserver = std::function<void(const std::string& moment, const core::TrialWorld& world)>;
 
 struct TrialOptions {
   const PlannerConfig* planner = nullptr;  // default: the scenario's first planner
@@ -30,14 +30,14 @@ struct TrialOptions {
   const core::TrialLayout* layout = nullptr;
 };
 
-// Draws a trial's world (task variation, then obstacles: Scene::make_trial_layout) and checks
-// it in `worker` (a copy of the scene): at its start the robot touches nothing and no two
-// bodies interpenetrate by more than 1 mm. Throws core::InputError naming the scenario file,
-// the line and key at fault, and the trial. Leaves the layout applied to `worker`.
-core::TrialLayout draw_trial_layout(const Scenario& scenario, mujoco::WorkerScene& worker,
+// Draws a trial's world (task variation, then obstacles: LoadedScene::make_trial_layout) and
+// checks it: at its start the robot touches nothing and no two bodies interpenetrate by more
+// than 1 mm. Throws core::InputError naming the scenario file, the line and key at fault, and
+// the trial.
+core::TrialLayout draw_trial_layout(const Scenario& scenario, const core::LoadedScene& scene,
                                     std::uint64_t layout_seed, const std::string& trial_id);
 
-TrialResult run_trial(const Scenario& scenario, std::shared_ptr<const mujoco::Scene> scene,
+TrialResult run_trial(const Scenario& scenario, const core::LoadedScene& scene,
                       std::uint64_t layout_seed, std::uint32_t seed,
                       const core::ProgramRegistry& registry, const TrialObserver& observe = nullptr,
                       const TrialOptions& options = {});

@@ -14,8 +14,24 @@
 
 namespace taskmatrix::harness {
 
+const std::vector<std::string>& execution_modes() {
+  static const std::vector<std::string> modes = {"physics", "kinematic", "physics_unpruned"};
+  return modes;
+}
+
 bool is_execution_mode(const std::string& name) {
-  return name == "physics" || name == "kinematic" || name == "physics_unpruned";
+  const std::vector<std::string>& modes = execution_modes();
+  return std::find(modes.begin(), modes.end(), name) != modes.end();
+}
+
+std::string execution_modes_text() {
+  const std::vector<std::string>& modes = execution_modes();
+  std::string text;
+  for (size_t i = 0; i < modes.size(); ++i) {
+    if (i > 0) text += i + 1 == modes.size() ? " or " : ", ";
+    text += modes[i];
+  }
+  return text;
 }
 
 namespace {
@@ -201,8 +217,7 @@ double read_wall_limit(const io::YamlNode& node) {
 
 std::string read_execution(const io::YamlNode& node) {
   const std::string v = node.as_string();
-  if (!is_execution_mode(v))
-    node.fail("must be physics, kinematic or physics_unpruned, not '" + v + "'");
+  if (!is_execution_mode(v)) node.fail("must be " + execution_modes_text() + ", not '" + v + "'");
   return v;
 }
 
@@ -392,7 +407,7 @@ void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {
   if (!overrides.execution.empty() && !is_execution_mode(overrides.execution)) {
     throw core::InputError(
         "--execution", "",
-        "must be physics, kinematic or physics_unpruned, not '" + overrides.execution + "'");
+        "must be " + execution_modes_text() + ", not '" + overrides.execution + "'");
   }
   std::vector<PlannerConfig> planners;
   for (const std::string& name : overrides.planners) {

@@ -95,8 +95,12 @@ struct RunPlan {
 RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& catalog,
                       core::ProgramRegistry& registry);
 
-// "physics", "kinematic" or "physics_unpruned".
+// The execution modes a scenario's `execution` key and `run --execution` accept:
+// "physics", "kinematic" and "physics_unpruned".
+const std::vector<std::string>& execution_modes();
 bool is_execution_mode(const std::string& name);
+// "physics, kinematic or physics_unpruned", for messages and help text.
+std::string execution_modes_text();
 
 // Overrides from the command line (--trials, --seed, --planners); each applies to every
 // scenario. Throws core::InputError naming the option for an unknown planner.

@@ -394,7 +394,8 @@ void Skillset::command(const std::vector<std::string>& chain_names,
     const ChainInfo& c = chain(name);
     for (size_t i = 0; i < c.joints.size(); ++i, ++k) {
       const double lo = c.lower[i], hi = c.upper[i];
-      if (positions[k] < lo - kCommandClampTolerance || positions[k] > hi + kCommandClampTolerance) {
+      if (positions[k] < lo - kCommandClampTolerance ||
+          positions[k] > hi + kCommandClampTolerance) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
                       "command %.6g for joint '%s' is outside its limits [%.6g, %.6g]",
@@ -410,7 +411,9 @@ void Skillset::command(const std::vector<std::string>& chain_names,
 StepReport Skillset::advance() {
   ++work_.control_periods;
   StepReport report = do_advance();
-  if (record_every_ > 0 && work_.control_periods % record_every_ == 0) do_record_state();
+  if (record_every_ > 0 && (work_.control_periods - record_from_) % record_every_ == 0) {
+    record_state_now();
+  }
   return report;
 }
 
@@ -443,8 +446,27 @@ void Skillset::record_states(double rate_hz) {
     return;
   }
   record_every_ = std::max(1, static_cast<int>(std::lround(1.0 / (rate_hz * control_period()))));
-  do_begin_recording(record_every_ * control_period());
-  do_record_state();
+  record_from_ = work_.control_periods;
+  recording_ = StateRecording{};
+  recording_.nq = do_state_size();
+  recording_.frame_period_s = record_every_ * control_period();
+  record_state_now();
+}
+
+void Skillset::record_state_now() {
+  if (record_every_ == 0) return;
+  const size_t before = recording_.qpos.size();
+  do_append_state(recording_.qpos);
+  if (recording_.qpos.size() != before + static_cast<size_t>(recording_.nq)) {
+    throw std::logic_error("the backend's state frame has " +
+                           std::to_string(recording_.qpos.size() - before) + " numbers, not " +
+                           std::to_string(recording_.nq));
+  }
+  recording_.times.push_back(time());
+}
+
+void Skillset::note_removal(int body) {
+  if (record_every_ > 0) recording_.removals.push_back({time(), body});
 }
 
 const Posture& Skillset::posture(std::string_view name) const {

@@ -33,6 +33,7 @@
 #include "taskmatrix/core/joint_limits.h"
 #include "taskmatrix/core/planning_types.h"
 #include "taskmatrix/core/robot_profile.h"
+#include "taskmatrix/core/state_recording.h"
 #include "taskmatrix/core/trajectory.h"
 #include "taskmatrix/core/work_record.h"
 
@@ -182,7 +183,8 @@ class Skillset {
   double control_period() const { return do_control_period(); }  // seconds per advance()
   // Position targets for the chains' joints, held until changed. Throws std::invalid_argument
   // for NaN, wrong sizes or values outside limits (beyond rounding: a value within
-  // kCommandClampTolerance of a limit is clamped to it; core/joint_limits.h). The base moves only through these.
+  // kCommandClampTolerance of a limit is clamped to it; core/joint_limits.h). The base moves only
+  // through these.
   void command(const std::vector<std::string>& chain_names, const std::vector<double>& positions,
                const std::vector<double>& velocities = {},
                const std::vector<double>& accelerations = {});
@@ -226,6 +228,8 @@ class Skillset {
   // state. Throws std::invalid_argument for a negative or non-finite rate.
   void record_states(double rate_hz);
   bool recording_states() const { return record_every_ > 0; }
+  // The frames recorded since the last record_states() call (empty if never asked).
+  const StateRecording& recording() const { return recording_; }
 
  protected:
   // ---- The backend's hooks. Chains are known, distinct and non-empty; value vectors have one
@@ -272,13 +276,18 @@ class Skillset {
   virtual std::vector<std::string> do_attached_objects() const = 0;
   virtual std::string do_holder_of(const std::string& object) const = 0;
   virtual std::vector<std::string> do_touching(const std::string& part) const = 0;
-  // The state recording: a new one with frames `frame_period_s` apart, and one frame of the
-  // current state.
-  virtual void do_begin_recording(double frame_period_s) = 0;
-  virtual void do_record_state() = 0;
+  // The state recording's frames: how many numbers the backend's state has, and the current
+  // state appended to `frames` (exactly do_state_size() numbers).
+  virtual int do_state_size() const = 0;
+  virtual void do_append_state(std::vector<float>& frames) const = 0;
 
   // For the backend: its own counts and measures of executed motion.
   WorkRecord& mutable_work() { return work_; }
+  // For the backend, while recording states: a frame of the current state now (after a change
+  // that did not go through advance(), such as a placement), and a body it took out of the
+  // world at the current time.
+  void record_state_now();
+  void note_removal(int body);
   // Whether a query of this skillset is running (a goal region's sampler may call back into
   // the skillset's queries, but must not change the world).
   bool in_query() const { return query_depth_ > 0; }
@@ -306,7 +315,9 @@ class Skillset {
   PlanResult note_plan(const char* kind, PlanResult result);
 
   WorkRecord work_;
+  StateRecording recording_;
   int record_every_ = 0;  // control periods per recorded frame; 0: not recording
+  long record_from_ = 0;  // work_.control_periods when the recording began
   int query_depth_ = 0;
 };
 

@@ -112,9 +112,7 @@ void MujocoSkillset::set_visitor_walk(double speed_mps) {
 void MujocoSkillset::collect_debris() {
   const std::vector<int> removed = world_.collect_debris(worker_.model(), worker_.data(), held_);
   if (removed.empty()) return;
-  if (recording_states()) {
-    for (int body : removed) recording_.removals.push_back({worker_.data()->time, body});
-  }
+  for (int body : removed) note_removal(body);
   mj_forward(worker_.model(), worker_.data());
 }
 
@@ -394,19 +392,14 @@ void MujocoSkillset::set_configuration(const std::vector<std::string>& chain_nam
   mj_forward(m, d);
   have_last_ = false;  // a placement, not motion
   have_accel_ = false;
-  if (recording_states()) record_frame();
+  record_state_now();
 }
 
-void MujocoSkillset::do_begin_recording(double frame_period_s) {
-  recording_ = StateRecording{};
-  recording_.nq = worker_.model()->nq;
-  recording_.frame_period_s = frame_period_s;
-}
+int MujocoSkillset::do_state_size() const { return worker_.model()->nq; }
 
-void MujocoSkillset::record_frame() {
+void MujocoSkillset::do_append_state(std::vector<float>& frames) const {
   const mjData* d = worker_.data();
-  recording_.times.push_back(d->time);
-  recording_.qpos.insert(recording_.qpos.end(), d->qpos, d->qpos + worker_.model()->nq);
+  frames.insert(frames.end(), d->qpos, d->qpos + worker_.model()->nq);
 }
 
 void MujocoSkillset::monitor_period() {

@@ -45,13 +45,13 @@
 #include <vector>
 
 #include "taskmatrix/core/skillset.h"
+#include "taskmatrix/core/state_recording.h"
 #include "taskmatrix/mujoco/attachments.h"
 #include "taskmatrix/mujoco/contact_pruning.h"
 #include "taskmatrix/mujoco/joint_servo.h"
 #include "taskmatrix/mujoco/obstacle_belief.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/mujoco/validity_checker.h"
-#include "taskmatrix/mujoco/work_record.h"
 #include "taskmatrix/mujoco/world_script.h"
 
 namespace taskmatrix::mujoco {
@@ -109,9 +109,6 @@ class MujocoSkillset final : public core::Skillset {
   const std::vector<int>& removed_debris() const { return world_.removed_debris(); }
   bool removed(int body) const { return world_.removed(body); }
 
-  // The state recording (core::Skillset::record_states): every generalized position.
-  const StateRecording& recording() const { return recording_; }
-
   ExecutionMode execution() const { return execution_; }
   const ContactPruning& pruning() const { return pruning_; }
   const Scene& scene() const { return *scene_; }
@@ -152,8 +149,9 @@ class MujocoSkillset final : public core::Skillset {
   core::CameraInfo do_head_camera() const override;
   core::DepthScan do_scan_depth() override;
   std::vector<std::string> do_touching(const std::string& part) const override;
-  void do_begin_recording(double frame_period_s) override;
-  void do_record_state() override { record_frame(); }
+  // The state recording's frames: every generalized position.
+  int do_state_size() const override;
+  void do_append_state(std::vector<float>& frames) const override;
 
  private:
   // Joint ids of the chains, in order; throws std::invalid_argument for an unknown chain.
@@ -177,7 +175,6 @@ class MujocoSkillset final : public core::Skillset {
   bool stop_fingers_at_contact(const std::vector<double>& before);
   // After each control period: the executed motion's measures.
   void monitor_period();
-  void record_frame();
   // Throws std::logic_error when called from inside a query (a goal sampler's callback).
   void require_no_query(const char* what) const;
   int object_body(const std::string& object) const;  // -1 if not an object's body
@@ -218,7 +215,6 @@ class MujocoSkillset final : public core::Skillset {
   double period_start_ = 0;
   std::unique_ptr<HeadSensor> sensor_;  // made on the first scan_depth()
   // Monitoring.
-  StateRecording recording_;
   int clearance_every_ = 0;  // control periods per clearance sample; 0: never
   double clearance_cap_m_ = 0.25;
   std::vector<int> ee_sites_, ee_bodies_;                   // end effector frames of the chains

@@ -52,7 +52,7 @@ std::vector<PlanAt> plans_of(const TrialResult& r, const mujoco::Scene& scene) {
   for (const mujoco::ChainIndex& c : scene.chains()) {
     robot_qpos.insert(robot_qpos.end(), c.qpos_adr.begin(), c.qpos_adr.end());
   }
-  const mujoco::StateRecording& rec = r.recording;
+  const core::StateRecording& rec = r.recording;
   std::vector<PlanAt> out;
   for (const core::Message& m : r.log) {
     if (m.type != core::MessageType::kPlanningEnded || !m.plan) continue;
@@ -78,15 +78,15 @@ TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
   Scenario s =
       load_scenario(test::catalog().root() / "scenarios" / "programs" / (c.program + ".yaml"),
                     test::catalog(), registry());
-  const auto scene = test::scene(c.robot, "kitchen");
+  const auto scene = test::loaded_scene(c.robot, "kitchen");
   TrialOptions options;
   options.record_rate_hz = 100;  // every control period: the state at each plan
   s.execution = "physics";
   const TrialResult physics =
-      run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, options);
+      run_trial(s, *scene, s.layout_seed, s.seed, registry(), nullptr, options);
   s.execution = "kinematic";
   const TrialResult kinematic =
-      run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, options);
+      run_trial(s, *scene, s.layout_seed, s.seed, registry(), nullptr, options);
   EXPECT_TRUE(physics.success) << trial_status(physics) << ": " << trial_failure_reason(physics);
   EXPECT_TRUE(kinematic.success) << trial_status(kinematic) << ": "
                                  << trial_failure_reason(kinematic);
@@ -99,7 +99,9 @@ TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
     EXPECT_GT(r->work.contact_passes, 0);
   }
 
-  const std::vector<PlanAt> a = plans_of(physics, *scene), b = plans_of(kinematic, *scene);
+  const mujoco::Scene& mujoco_scene = *mujoco::scene_of(*scene);
+  const std::vector<PlanAt> a = plans_of(physics, mujoco_scene),
+                            b = plans_of(kinematic, mujoco_scene);
   ASSERT_EQ(a.size(), b.size()) << "plan calls differ";
   int unexplained = 0, same = 0, robot_differs = 0;
   for (size_t k = 0; k < a.size(); ++k) {
@@ -127,11 +129,11 @@ TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
 TEST(UnprunedPhysics, KeepsTheOutcomeAndComputesMoreContacts) {
   Scenario s = load_scenario(test::catalog().root() / "scenarios" / "programs" / "reach.yaml",
                              test::catalog(), registry());
-  const auto scene = test::scene("minibot", "kitchen");
+  const auto scene = test::loaded_scene("minibot", "kitchen");
   s.execution = "physics";
-  const TrialResult pruned = run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, {});
+  const TrialResult pruned = run_trial(s, *scene, s.layout_seed, s.seed, registry(), nullptr, {});
   s.execution = "physics_unpruned";
-  const TrialResult unpruned = run_trial(s, scene, s.layout_seed, s.seed, registry(), nullptr, {});
+  const TrialResult unpruned = run_trial(s, *scene, s.layout_seed, s.seed, registry(), nullptr, {});
   EXPECT_TRUE(pruned.success) << trial_failure_reason(pruned);
   EXPECT_EQ(trial_status(pruned), trial_status(unpruned)) << trial_failure_reason(unpruned);
   EXPECT_EQ(pruned.work.plans.size(), unpruned.work.plans.size());

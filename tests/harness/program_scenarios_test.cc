@@ -40,7 +40,8 @@ Scenario program_scenario(const std::string& program) {
 TrialObserver renders(const std::string& label) {
   const char* dir = std::getenv("TASKMATRIX_RENDER_DIR");
   if (!dir) return nullptr;
-  return [dir, label](const std::string& moment, const mujoco::MujocoSkillset& skills) {
+  return [dir, label](const std::string& moment, const core::TrialWorld& world) {
+    const mujoco::MujocoSkillset& skills = test::mujoco_skills(world);
     mujoco::OffscreenRenderer renderer(skills.model(), 640, 480);
     mujoco::CameraView view;
     view.lookat[0] = 0.4;
@@ -97,8 +98,8 @@ TEST_P(ProgramScenarioTest, SucceedsInTheDefaultLayout) {
   ASSERT_NE(std::find(s.environments.begin(), s.environments.end(), c.pair.environment),
             s.environments.end());
   const TrialResult r =
-      run_trial(s, test::scene(c.pair.robot, c.pair.environment), s.layout_seed, s.seed, registry(),
-                renders(c.program + "_" + test::pair_name(c.pair)));
+      run_trial(s, *test::loaded_scene(c.pair.robot, c.pair.environment), s.layout_seed, s.seed,
+                registry(), renders(c.program + "_" + test::pair_name(c.pair)));
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
   EXPECT_EQ(trial_status(r), "success");
   EXPECT_GT(r.duration_s, 0.0);
@@ -114,9 +115,10 @@ TEST_P(ProgramBehaviourTest, GreetsAWalkingVisitorWhileTrackingThem) {
   ASSERT_GT(s.visitor_speed_mps, 0.0);
   double visitor_y_at_end = 0;
   const TrialResult r =
-      run_trial(s, test::scene(GetParam().robot, GetParam().environment), s.layout_seed, s.seed,
-                registry(), [&](const std::string& moment, const mujoco::MujocoSkillset& skills) {
-                  if (moment == "end") visitor_y_at_end = skills.frame_pose("visitor").position.y();
+      run_trial(s, *test::loaded_scene(GetParam().robot, GetParam().environment), s.layout_seed,
+                s.seed, registry(), [&](const std::string& moment, const core::TrialWorld& world) {
+                  if (moment == "end")
+                    visitor_y_at_end = world.skills().frame_pose("visitor").position.y();
                 });
   ASSERT_TRUE(r.success) << trial_failure_reason(r);
   // The visitor walked (it starts at y = -1.0 on its path), and the wave was played.
@@ -139,9 +141,9 @@ TEST_P(ProgramBehaviourTest, VacuumRemovesEveryFlakeOfDebris) {
   const Scenario s = program_scenario("vacuum");
   size_t removed = 0;
   const TrialResult r =
-      run_trial(s, test::scene(GetParam().robot, GetParam().environment), s.layout_seed, s.seed,
-                registry(), [&](const std::string& moment, const mujoco::MujocoSkillset& skills) {
-                  if (moment == "end") removed = skills.removed_debris().size();
+      run_trial(s, *test::loaded_scene(GetParam().robot, GetParam().environment), s.layout_seed,
+                s.seed, registry(), [&](const std::string& moment, const core::TrialWorld& world) {
+                  if (moment == "end") removed = world.removed_objects().size();
                 });
   ASSERT_TRUE(r.success) << trial_failure_reason(r);
   EXPECT_EQ(removed, 5u);
@@ -159,7 +161,7 @@ TEST_P(ProgramBehaviourTest, PickupOutOfReachFailsWithTheReason) {
   s.setup = {{"retreat", {{"part", "base"}, {"from", "work_surface"}, {"distance", "1.2"}}}};
   s.run.params = {{"object", "cup"}, {"step", "false"}};
   s.success.clear();
-  const TrialResult r = run_trial(s, test::scene(GetParam().robot, GetParam().environment),
+  const TrialResult r = run_trial(s, *test::loaded_scene(GetParam().robot, GetParam().environment),
                                   s.layout_seed, s.seed, registry());
   EXPECT_FALSE(r.success);
   ASSERT_TRUE(r.failure.has_value());
@@ -183,7 +185,7 @@ TEST_P(ProgramBehaviourTest, AFailureInsideAMachineNamesTheStatesItFailedIn) {
   s.run.program = "fetch";
   s.run.params.clear();
   s.success.clear();
-  const TrialResult r = run_trial(s, test::scene(GetParam().robot, GetParam().environment),
+  const TrialResult r = run_trial(s, *test::loaded_scene(GetParam().robot, GetParam().environment),
                                   s.layout_seed, s.seed, programs);
   // A person is no grasp for a hand: reach refuses it before any IK.
   ASSERT_TRUE(r.failure.has_value());

@@ -499,7 +499,8 @@ TEST_F(Robustness, AHugeExploreRegionFailsItsTrialInsteadOfExhaustingMemory) {
                                   ", cell_m: 0.01}\nrobots: [minibot]\nenvironments: "
                                   "[kitchen]\ntime_limit_s: 5\n");
     const Scenario scenario = load_scenario(s, test::catalog(), registry);
-    const TrialResult r = run_trial(scenario, test::scene("minibot", "kitchen"), 1, 1, registry);
+    const TrialResult r =
+        run_trial(scenario, *test::loaded_scene("minibot", "kitchen"), 1, 1, registry);
     ASSERT_TRUE(r.failure.has_value());
     EXPECT_EQ(r.failure->code, core::FailureCode::kInvalidInput) << trial_failure_reason(r);
   }

@@ -420,9 +420,10 @@ TEST_F(Runner, RecordedTrajectoriesReplayTheTrial) {
   options.record_rate_hz = 25;
   const auto scene = test::scene("tallbot", "kitchen");
   const TrialResult r = run_trial(
-      s, scene, s.layout_seed, s.seed, registry_,
-      [&](const std::string& moment, const mujoco::MujocoSkillset& skills) {
+      s, *test::loaded_scene("tallbot", "kitchen"), s.layout_seed, s.seed, registry_,
+      [&](const std::string& moment, const core::TrialWorld& world) {
         if (moment == "end") {
+          const mujoco::MujocoSkillset& skills = test::mujoco_skills(world);
           final_qpos.assign(skills.sim_data()->qpos, skills.sim_data()->qpos + skills.model()->nq);
         }
       },

@@ -262,8 +262,10 @@ TEST_F(ScenarioFiles, ObstacleDensitySuitePlacesItsObstaclesAroundTheCup) {
       scene =
           mujoco::Scene::load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
     }
+    const core::TrialLayout layout =
+        draw_trial_layout(scenario, mujoco::MujocoLoadedScene(scene), t.layout_seed, t.id);
     mujoco::WorkerScene worker(scene);
-    const core::TrialLayout layout = draw_trial_layout(scenario, worker, t.layout_seed, t.id);
+    worker.apply(layout);
     worker.reset_to_start();
     const int cup = mj_name2id(worker.model(), mjOBJ_BODY, "cup");
     ASSERT_GE(cup, 0);

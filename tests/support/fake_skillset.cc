@@ -561,9 +561,11 @@ void FakeSkillset::place(const std::vector<std::string>& chain_names,
   target_ = q_;
 }
 
-void FakeSkillset::do_begin_recording(double) { recording_.clear(); }
+int FakeSkillset::do_state_size() const { return static_cast<int>(q_.size()); }
 
-void FakeSkillset::do_record_state() { recording_.emplace_back(time_, q_); }
+void FakeSkillset::do_append_state(std::vector<float>& frames) const {
+  for (double q : q_) frames.push_back(static_cast<float>(q));
+}
 
 void FakeSkillset::perceive(core::PerceptualModel& model) const {
   std::vector<FakeBox> boxes = world_;

@@ -56,10 +56,6 @@ class FakeSkillset final : public core::Skillset {
   // their palms carry them).
   void perceive(core::PerceptualModel& model) const;
   const std::vector<FakeBox>& world() const { return world_; }
-  // Every configuration and time the state recording holds.
-  const std::vector<std::pair<double, std::vector<double>>>& recording() const {
-    return recording_;
-  }
 
  protected:
   const core::RobotProfile& do_profile() const override { return profile_; }
@@ -93,8 +89,8 @@ class FakeSkillset final : public core::Skillset {
   std::vector<std::string> do_attached_objects() const override;
   std::string do_holder_of(const std::string& object) const override;
   std::vector<std::string> do_touching(const std::string& part) const override;
-  void do_begin_recording(double frame_period_s) override;
-  void do_record_state() override;
+  int do_state_size() const override;
+  void do_append_state(std::vector<float>& frames) const override;
 
  private:
   struct Held {
@@ -129,7 +125,6 @@ class FakeSkillset final : public core::Skillset {
   std::vector<double> q_, target_;
   double time_ = 0;
   std::vector<Held> held_;
-  std::vector<std::pair<double, std::vector<double>>> recording_;
 };
 
 }  // namespace taskmatrix::test

@@ -198,8 +198,18 @@ TEST_P(SkillsetConformance, WorkIsCountedForEveryCall) {
 
   skills().record_states(1.0 / (2 * skills().control_period()));  // a frame every 2 periods
   EXPECT_TRUE(skills().recording_states());
-  for (int k = 0; k < 3; ++k) skills().advance();
-  EXPECT_EQ(skills().work().control_periods, before.control_periods + 3);
+  const double t0 = skills().time();
+  for (int k = 0; k < 4; ++k) skills().advance();
+  EXPECT_EQ(skills().work().control_periods, before.control_periods + 4);
+  // The recording (kept by core): the start, then a frame every 2 periods, each with the
+  // backend's whole state.
+  const core::StateRecording& rec = skills().recording();
+  EXPECT_NEAR(rec.frame_period_s, 2 * skills().control_period(), 1e-12);
+  ASSERT_EQ(rec.frames(), 3u);
+  EXPECT_GT(rec.nq, 0);
+  EXPECT_EQ(rec.qpos.size(), rec.frames() * static_cast<size_t>(rec.nq));
+  EXPECT_DOUBLE_EQ(rec.times.front(), t0);
+  EXPECT_NEAR(rec.times.back() - rec.times.front(), 4 * skills().control_period(), 1e-9);
   EXPECT_THROW(skills().record_states(-1), std::invalid_argument);
   skills().record_states(0);
   EXPECT_FALSE(skills().recording_states());

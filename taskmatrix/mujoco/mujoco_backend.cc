@@ -1,0 +1,114 @@
+#include "taskmatrix/mujoco/mujoco_backend.h"
+
+#include <stdexcept>
+
+#include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/head_sensor.h"
+
+namespace taskmatrix::mujoco {
+
+namespace {
+
+SimulationOptions simulation_options(const std::string& execution) {
+  SimulationOptions simulation;
+  if (execution == "physics") {
+    simulation.execution = ExecutionMode::kPhysics;
+  } else if (execution == "kinematic") {
+    simulation.execution = ExecutionMode::kKinematic;
+  } else if (execution == "physics_unpruned") {
+    simulation.execution = ExecutionMode::kPhysics;
+    simulation.pruning = {false, false};
+  } else {
+    throw std::invalid_argument("unknown execution mode '" + execution +
+                                "' (physics, kinematic or physics_unpruned)");
+  }
+  return simulation;
+}
+
+}  // namespace
+
+MujocoTrialWorld::MujocoTrialWorld(std::shared_ptr<const Scene> scene,
+                                   const core::TrialLayout& layout,
+                                   const core::TrialWorldOptions& options)
+    : skills_(std::move(scene), simulation_options(options.execution)) {
+  skills_.apply_layout(layout);
+  if (options.record_rate_hz > 0) skills_.record_states(options.record_rate_hz);
+  skills_.set_visitor_walk(options.visitor_speed_mps);
+}
+
+std::unique_ptr<core::Perception> MujocoTrialWorld::make_perception(const std::string& kind) {
+  if (kind == "ground_truth") return std::make_unique<GroundTruthPerception>(skills_);
+  if (kind == "sensor") return std::make_unique<SensorPerception>(skills_);
+  throw std::invalid_argument("unknown perception '" + kind + "' (ground_truth or sensor)");
+}
+
+std::vector<std::string> MujocoTrialWorld::removed_objects() const {
+  std::vector<std::string> names;
+  for (int body : skills_.removed_debris()) {
+    const char* name = mj_id2name(skills_.model(), mjOBJ_BODY, body);
+    names.push_back(name ? name : "body " + std::to_string(body));
+  }
+  return names;
+}
+
+MujocoLoadedScene::MujocoLoadedScene(std::shared_ptr<const Scene> scene)
+    : scene_(std::move(scene)) {
+  if (!scene_) throw std::invalid_argument("MujocoLoadedScene: no scene");
+}
+
+core::TrialLayout MujocoLoadedScene::make_trial_layout(const core::ObstacleOptions& obstacles,
+                                                       const core::VariationOptions& variation,
+                                                       std::uint64_t seed) const {
+  return scene_->make_trial_layout(obstacles, variation, seed);
+}
+
+std::vector<core::StartContact> MujocoLoadedScene::start_contacts(
+    const core::TrialLayout& layout) const {
+  WorkerScene worker(scene_);
+  worker.apply(layout);
+  worker.reset_to_start();
+  const mjModel* m = worker.model();
+  const mjData* d = worker.data();
+  auto name = [&](int geom) {
+    const char* n = mj_id2name(m, mjOBJ_GEOM, geom);
+    return n ? std::string(n) : "geom " + std::to_string(geom);
+  };
+  auto is_obstacle = [&](int geom) {
+    for (const ObstacleSlot& slot : scene_->obstacle_slots()) {
+      if (m->geom_bodyid[geom] == slot.body) return true;
+    }
+    return false;
+  };
+  std::vector<core::StartContact> contacts;
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    const bool robot = scene_->is_robot_geom(c.geom1) || scene_->is_robot_geom(c.geom2);
+    if (!robot && c.dist >= -0.001) continue;
+    contacts.push_back({name(c.geom1), name(c.geom2), -c.dist, robot,
+                        is_obstacle(c.geom1) || is_obstacle(c.geom2)});
+  }
+  return contacts;
+}
+
+std::unique_ptr<core::TrialWorld> MujocoLoadedScene::make_trial_world(
+    const core::TrialLayout& layout, const core::TrialWorldOptions& options) const {
+  return std::make_unique<MujocoTrialWorld>(scene_, layout, options);
+}
+
+std::string MujocoBackend::version() const {
+  const int v = mj_version();
+  return std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
+}
+
+std::shared_ptr<const core::LoadedScene> MujocoBackend::load(
+    const std::filesystem::path& robot_dir, const std::filesystem::path& environment_dir) const {
+  return std::make_shared<MujocoLoadedScene>(Scene::load(robot_dir, environment_dir));
+}
+
+const std::shared_ptr<const Scene>& scene_of(const core::LoadedScene& scene) {
+  const auto* mujoco_scene = dynamic_cast<const MujocoLoadedScene*>(&scene);
+  if (!mujoco_scene) throw std::invalid_argument("not a scene of the MuJoCo backend");
+  return mujoco_scene->scene();
+}
+
+}  // namespace taskmatrix::mujoco
