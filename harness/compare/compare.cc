@@ -584,10 +584,17 @@ std::string comparison_markdown(const Comparison& c) {
           (w.missing > 0 ? printf_string("; %.0f pairs without it", w.missing) : "") + " |\n";
   }
   md += "\nOverall: " + verdict(o, t) + "\n\n## Per group\n\n";
+  // The work counts the table shows per group (FieldDisplay::compare_groups), as columns.
   md +=
       "| scenario | robot | environment | planner | success | McNemar p | planning time ratio "
-      "(95% CI) | Wilcoxon p | collision checks | plan calls | verdict |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "(95% CI) | Wilcoxon p |";
+  std::string rule = "|---|---|---|---|---|---|---|---|";
+  for (const TrialField& f : kTrialFields) {
+    if (!f.display.compare_groups) continue;
+    md += " " + std::string(f.display.label) + " |";
+    rule += "---|";
+  }
+  md += " verdict |\n" + rule + "---|\n";
   for (const PairedGroup& g : c.groups) {
     const std::string planner =
         g.base_planner == g.new_planner
@@ -596,8 +603,11 @@ std::string comparison_markdown(const Comparison& c) {
     md += "| " + markdown_cell(g.scenario) + " | " + markdown_cell(g.robot) + " | " +
           markdown_cell(g.environment) + " | " + planner + " | " + success_cell(g) + " | " +
           p_value_text(g.mcnemar_p) + " | " + time_cell(g) + " | " + p_value_text(g.wilcoxon_p) +
-          " | " + work_cell(g, "collision_checks") + " | " + work_cell(g, "plan_calls") + " | " +
-          verdict(g, t) + " |\n";
+          " |";
+    for (const TrialField& f : kTrialFields) {
+      if (f.display.compare_groups) md += " " + work_cell(g, std::string(f.name)) + " |";
+    }
+    md += " " + verdict(g, t) + " |\n";
   }
   if (!c.flips.empty()) {
     md += "\n## Trials whose outcome changed\n\n" + markdown_table(flips_table(c));

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "harness/results/trial_schema.h"
+
 namespace taskmatrix::harness {
 
 namespace {
@@ -102,11 +104,22 @@ ReportTable flips_table(const Comparison& c) {
 }
 
 std::string path_quality_method(const Comparison&) {
+  // Which way is better, from the table's path-quality measures.
+  std::vector<std::string> higher;
+  for (const TrialField& f : kTrialFields) {
+    if (f.display.path_quality == Better::kHigher) higher.emplace_back(f.display.label);
+  }
+  std::string direction = "Lower is better";
+  for (size_t i = 0; i < higher.size(); ++i) {
+    direction += (i == 0                   ? " except for the "
+                  : i + 1 == higher.size() ? " and the "
+                                           : ", the ") +
+                 higher[i];
+  }
   return "Over the pairs in which both trials succeeded (a failed trial stops early), the mean "
          "paired change new - base with its 95% Student t interval, and Wilcoxon's signed-rank "
-         "test on the changes; a change is better or worse when its interval excludes 0. Lower "
-         "is better except for the minimum clearance. Joint path: rad and m mixed; smoothness: "
-         "RMS joint jerk.";
+         "test on the changes; a change is better or worse when its interval excludes 0. " +
+         direction + ". Joint path: rad and m mixed; smoothness: RMS joint jerk.";
 }
 
 std::string power_method(const Comparison& c) {

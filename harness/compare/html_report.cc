@@ -9,8 +9,10 @@
 #include <set>
 
 #include "harness/compare/compare_sections.h"
+#include "harness/compare/planner_comparison.h"
 #include "harness/report/svg_plot.h"
 #include "harness/results/json_input.h"
+#include "harness/results/trial_schema.h"
 
 namespace taskmatrix::harness {
 
@@ -117,7 +119,12 @@ std::string group_table(const Comparison& c) {
   std::string s =
       "<table><tr><th>scenario</th><th>robot</th><th>environment</th><th>planner</th>"
       "<th>success</th><th>McNemar p</th><th>planning time ratio (95% CI)</th>"
-      "<th>Wilcoxon p</th><th>collision checks</th><th>plan calls</th><th>verdict</th></tr>";
+      "<th>Wilcoxon p</th>";
+  // The work counts the table shows per group (FieldDisplay::compare_groups).
+  for (const TrialField& f : kTrialFields) {
+    if (f.display.compare_groups) s += "<th>" + html_escape(std::string(f.display.label)) + "</th>";
+  }
+  s += "<th>verdict</th></tr>";
   for (const PairedGroup& g : c.groups) {
     const std::string planner =
         g.base_planner == g.new_planner ? g.base_planner : g.base_planner + " → " + g.new_planner;
@@ -125,9 +132,11 @@ std::string group_table(const Comparison& c) {
          td(html_escape(g.environment)) + td(html_escape(planner)) +
          td(std::to_string(g.base_successes) + "/" + std::to_string(g.pairs) + " &rarr; " +
             std::to_string(g.new_successes) + "/" + std::to_string(g.pairs)) +
-         td(p_text(g.mcnemar_p)) + td(time_text(g)) + td(p_text(g.wilcoxon_p)) +
-         td(work_total(g, "collision_checks")) + td(work_total(g, "plan_calls")) +
-         td(verdict_text(g, c.thresholds)) + "</tr>";
+         td(p_text(g.mcnemar_p)) + td(time_text(g)) + td(p_text(g.wilcoxon_p));
+    for (const TrialField& f : kTrialFields) {
+      if (f.display.compare_groups) s += td(work_total(g, std::string(f.name)));
+    }
+    s += td(verdict_text(g, c.thresholds)) + "</tr>";
   }
   return s + "</table>";
 }
@@ -378,7 +387,8 @@ std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>&
 
 std::string planners_html(const std::string& run_name, const std::vector<nlohmann::json>& trials,
                           const std::vector<std::string>& planners,
-                          const std::vector<Comparison>& vs_reference) {
+                          const std::vector<Comparison>& vs_reference,
+                          std::span<const TrialField> fields) {
   std::string h = "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Planners of " +
                   html_escape(run_name) + "</title>" + kStyle + "</head><body>";
   h += "<h1>Planners of run <code>" + html_escape(run_name) + "</code></h1>";
@@ -387,29 +397,28 @@ std::string planners_html(const std::string& run_name, const std::vector<nlohman
        html_escape(planners.empty() ? "" : planners[0]) + "</b>, pair by pair.</p>";
 
   h += "<h2>Summary</h2><table><tr><th>planner</th><th>trials</th><th>success (95% CI)</th>"
-       "<th>planning time per trial s (median / p90)</th><th>joint path (median)</th>"
-       "<th>collision checks per trial (median)</th></tr>";
+       "<th>planning time per trial s (median / p90)</th>";
+  for (const std::string& heading : planner_measure_headings(fields)) {
+    h += "<th>" + html_escape(heading) + "</th>";
+  }
+  h += "</tr>";
   std::vector<SeriesName> series;
   for (size_t i = 0; i < planners.size(); ++i) {
     series.push_back({planners[i], series_colour(static_cast<int>(i))});
     int n = 0, s = 0;
-    std::vector<double> path, checks;
     for (const nlohmann::json& t : trials) {
       if (t.value("planner", std::string()) != planners[i]) continue;
       ++n;
       s += t.value("success", false);
-      if (t.contains("path_length_joint") && t["path_length_joint"].is_number()) {
-        path.push_back(t["path_length_joint"].get<double>());
-      }
-      if (t.contains("collision_checks") && t["collision_checks"].is_number()) {
-        checks.push_back(t["collision_checks"].get<double>());
-      }
     }
     const std::vector<double> times = planning_times(trials, planners[i]);
     h += "<tr>" + td(html_escape(planners[i])) + td(std::to_string(n)) +
          td(success_text(s, n, wilson_interval(s, n))) +
-         td(fmt("%.4f", quantile(times, 0.5)) + " / " + fmt("%.4f", quantile(times, 0.9))) +
-         td(fmt("%.2f", quantile(path, 0.5))) + td(fmt("%.0f", quantile(checks, 0.5))) + "</tr>";
+         td(fmt("%.4f", quantile(times, 0.5)) + " / " + fmt("%.4f", quantile(times, 0.9)));
+    for (const std::string& cell : planner_measure_cells(trials, planners[i], fields)) {
+      h += td(html_escape(cell));
+    }
+    h += "</tr>";
   }
   h += "</table>";
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 
 #include "harness/compare/compare.h"
 #include "harness/compare/provenance_diff.h"
+#include "harness/results/trial_schema.h"
 
 namespace taskmatrix::harness {
 
@@ -36,10 +38,12 @@ std::string compare_html(const Comparison& c, const std::vector<nlohmann::json>&
                          const ProvenanceDiff* differences = nullptr);
 
 // A run with several planners: each planner against the first (`vs_reference`, one per other
-// planner, base = the reference), over the run's trials.
+// planner, base = the reference), over the run's trials. The summary per planner shows the
+// measures of `fields` marked for the planners' tables (FieldDisplay::planner_table).
 std::string planners_html(const std::string& run_name, const std::vector<nlohmann::json>& trials,
                           const std::vector<std::string>& planners,
-                          const std::vector<Comparison>& vs_reference);
+                          const std::vector<Comparison>& vs_reference,
+                          std::span<const TrialField> fields = kTrialFields);
 
 // RFC 4648 base64, for data URIs.
 std::string base64(const std::vector<std::uint8_t>& bytes);

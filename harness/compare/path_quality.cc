@@ -11,33 +11,9 @@ namespace taskmatrix::harness {
 
 namespace {
 
-struct Measure {
-  const char* field;
-  const char* name;
-  const char* unit;
-  bool lower_is_better;
-  const char* better_word;
-  const char* worse_word;
-};
-
-const Measure kMeasures[] = {
-    {"path_length_joint", "joint path", "", true, "shorter", "longer"},
-    {"path_length_ee_m", "end-effector path", "m", true, "shorter", "longer"},
-    {"duration_s", "duration", "s", true, "shorter", "longer"},
-    {"smoothness", "smoothness (RMS jerk)", "rad/s^3", true, "smoother", "jerkier"},
-    {"min_clearance_m", "minimum clearance", "m", false, "wider", "narrower"},
-};
-
 double number(const nlohmann::json& t, const char* key) {
   const auto it = t.find(key);
   return it != t.end() && it->is_number() ? it->get<double>() : NAN;
-}
-
-const Measure* measure_of(const std::string& field) {
-  for (const Measure& m : kMeasures) {
-    if (field == m.field) return &m;
-  }
-  return nullptr;
 }
 
 std::string with_unit(const char* format, double v, const std::string& unit) {
@@ -59,18 +35,23 @@ double student_t_quantile(double p, double df) {
   return boost::math::quantile(boost::math::students_t(df), p);
 }
 
-std::vector<PathQualityChange> compare_path_quality(const std::vector<TrialPair>& pairs) {
+std::vector<PathQualityChange> compare_path_quality(const std::vector<TrialPair>& pairs,
+                                                    std::span<const TrialField> fields) {
   std::vector<PathQualityChange> out;
-  for (const Measure& m : kMeasures) {
+  for (const TrialField& f : fields) {
+    const FieldDisplay& shown = f.display;
+    if (shown.path_quality == Better::kNone) continue;
     PathQualityChange c;
-    c.field = m.field;
-    c.name = m.name;
-    c.unit = m.unit;
-    c.lower_is_better = m.lower_is_better;
+    c.field = f.name;
+    c.name = shown.label;
+    c.unit = shown.unit;
+    c.lower_is_better = shown.path_quality == Better::kLower;
+    c.better_word = shown.better_word;
+    c.worse_word = shown.worse_word;
     std::vector<double> base, fresh, change;
     for (const TrialPair& p : pairs) {
       if (!p.base->value("success", false) || !p.fresh->value("success", false)) continue;
-      const double b = number(*p.base, m.field), n = number(*p.fresh, m.field);
+      const double b = number(*p.base, c.field.c_str()), n = number(*p.fresh, c.field.c_str());
       if (!std::isfinite(b) || !std::isfinite(n)) continue;
       base.push_back(b);
       fresh.push_back(n);
@@ -135,12 +116,11 @@ std::vector<std::string> path_quality_findings(const std::vector<PathQualityChan
   std::vector<std::string> out;
   for (const PathQualityChange& c : changes) {
     if (!c.significant()) continue;
-    const Measure* m = measure_of(c.field);
     const char* f = format_for(c.base_median);
     std::string amount = std::isfinite(c.percent())
                              ? format_number("%.0f%%", std::fabs(c.percent()))
                              : with_unit(f, std::fabs(c.mean_change), c.unit);
-    out.push_back(c.name + " " + amount + " " + (c.better() ? m->better_word : m->worse_word) +
+    out.push_back(c.name + " " + amount + " " + (c.better() ? c.better_word : c.worse_word) +
                   " (mean change " + path_change_text(c) + ", " + std::to_string(c.pairs) +
                   " pairs)");
   }

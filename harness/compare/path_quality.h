@@ -1,5 +1,6 @@
 // Paired path quality for comparisons (harness/compare/compare.h): for each measure of the executed
-// motion (joint path, end-effector path, duration, smoothness, minimum clearance), over the
+// motion (the trial fields harness/results/trial_schema.h marks as path-quality measures: joint
+// path, end-effector path, duration, smoothness, minimum clearance), over the
 // pairs in which both trials succeeded and both measured it (a failed trial stops early, so
 // its path is not comparable), the mean paired change new - base with its 95% Student t
 // interval (mean +- t(0.975, n - 1) sd / sqrt(n)), the medians, and Wilcoxon's signed-rank
@@ -7,10 +8,13 @@
 #pragma once
 
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "harness/results/trial_schema.h"
 
 namespace taskmatrix::harness {
 
@@ -24,6 +28,7 @@ struct PathQualityChange {
   std::string name;   // "joint path", "end-effector path", ...
   std::string unit;   // "", "m", "s", "rad/s^3"
   bool lower_is_better = true;
+  std::string better_word, worse_word;  // "shorter", "longer"
   int pairs = 0;
   double base_median = NAN, new_median = NAN, base_mean = NAN;
   double mean_change = NAN, change_low = NAN, change_high = NAN;  // new - base, 95% t interval
@@ -36,8 +41,10 @@ struct PathQualityChange {
   double percent() const { return base_mean > 0 ? 100 * mean_change / base_mean : NAN; }
 };
 
-// The measures compared, in report order.
-std::vector<PathQualityChange> compare_path_quality(const std::vector<TrialPair>& pairs);
+// The measures compared: the rows of `fields` with a FieldDisplay::path_quality, in table
+// order (name, unit, direction and words from their display).
+std::vector<PathQualityChange> compare_path_quality(
+    const std::vector<TrialPair>& pairs, std::span<const TrialField> fields = kTrialFields);
 
 // Student's t quantile (boost); for the interval and its tests.
 double student_t_quantile(double p, double df);

@@ -86,35 +86,69 @@ std::vector<Comparison> compare_planners(const std::vector<nlohmann::json>& tria
   return out;
 }
 
+std::vector<std::string> planner_measure_headings(std::span<const TrialField> fields) {
+  std::vector<std::string> out;
+  for (const TrialField& f : fields) {
+    if (!f.display.planner_table) continue;
+    out.push_back(std::string(f.display.label) +
+                  (f.display.unit.empty() ? "" : " " + std::string(f.display.unit)) + " (median)");
+  }
+  return out;
+}
+
+std::vector<std::string> planner_measure_cells(const std::vector<nlohmann::json>& trials,
+                                               const std::string& planner,
+                                               std::span<const TrialField> fields) {
+  std::vector<std::string> out;
+  for (const TrialField& f : fields) {
+    if (!f.display.planner_table) continue;
+    const std::string name(f.name), format(f.display.format);
+    std::vector<double> values;
+    for (const nlohmann::json& t : trials) {
+      if (t.value("planner", std::string()) != planner) continue;
+      const auto it = t.find(name);
+      if (it != t.end() && it->is_number()) values.push_back(it->get<double>());
+    }
+    out.push_back(format_number(format.c_str(), quantile(values, 0.5)));
+  }
+  return out;
+}
+
 std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
                                    const std::vector<std::string>& planners,
-                                   const std::vector<Comparison>& vs_reference) {
+                                   const std::vector<Comparison>& vs_reference,
+                                   std::span<const TrialField> fields) {
   if (vs_reference.empty()) return "";
   std::string md = "\n## Planners, each against " + markdown_cell(planners[0]) +
-                   " on the same trials\n\n"
-                   "| planner | success | 95% CI | planning s (median) | joint path (median) | "
-                   "McNemar p | planning time ratio (95% CI) | Wilcoxon p | collision checks "
-                   "ratio | verdict | path quality (pairs where both succeeded) |\n"
-                   "|---|---|---|---|---|---|---|---|---|---|---|\n";
+                   " on the same trials\n\n| planner | success | 95% CI | planning s (median) |";
+  std::string rule = "|---|---|---|---|";
+  for (const std::string& heading : planner_measure_headings(fields)) {
+    md += " " + markdown_cell(heading) + " |";
+    rule += "---|";
+  }
+  md +=
+      " McNemar p | planning time ratio (95% CI) | Wilcoxon p | collision checks ratio | "
+      "verdict | path quality (pairs where both succeeded) |\n" +
+      rule + "---|---|---|---|---|---|\n";
   for (const std::string& planner : planners) {
     const std::vector<nlohmann::json> mine = of_planner(trials, planner);
     if (mine.empty()) continue;
     int s = 0;
-    std::vector<double> times, path;
+    std::vector<double> times;
     for (const nlohmann::json& t : mine) {
       s += t.value("success", false);
       const auto it = t.find("planning_time_s");
       if (it != t.end() && it->is_number()) times.push_back(it->get<double>());
-      const auto pl = t.find("path_length_joint");
-      if (pl != t.end() && pl->is_number()) path.push_back(pl->get<double>());
     }
     const int n = static_cast<int>(mine.size());
     const Interval ci = wilson_interval(s, n);
     md += "| " + markdown_cell(planner) + " | " + std::to_string(s) + "/" + std::to_string(n) +
           " | " + format_number("%.0f%%", 100 * ci.low) + ".." +
           format_number("%.0f%%", 100 * ci.high) + " | " +
-          format_number("%.4f", quantile(times, 0.5)) + " | " +
-          format_number("%.2f", quantile(path, 0.5)) + " | ";
+          format_number("%.4f", quantile(times, 0.5)) + " | ";
+    for (const std::string& cell : planner_measure_cells(mine, planner, fields)) {
+      md += cell + " | ";
+    }
     const Comparison* c = nullptr;
     for (const Comparison& v : vs_reference) {
       if (v.new_label == planner) c = &v;

@@ -134,6 +134,14 @@ std::string fmt(const nlohmann::json& v, const char* format) {
   return v.is_number() ? format_number(format, v.get<double>()) : "-";
 }
 
+// A group's statistic of a field (null when the summary lacks it).
+nlohmann::json statistic(const nlohmann::json& group, const std::string& field, const char* stat) {
+  const auto f = group.find(field);
+  if (f == group.end() || !f->is_object()) return nullptr;
+  const auto v = f->find(stat);
+  return v == f->end() ? nlohmann::json() : *v;
+}
+
 }  // namespace
 
 nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials,
@@ -179,7 +187,7 @@ nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> tria
   return s;
 }
 
-std::string summary_markdown(const nlohmann::json& s) {
+std::string summary_markdown(const nlohmann::json& s, std::span<const TrialField> fields) {
   const nlohmann::json& run = s["run"];
   const nlohmann::json& all = s["overall"];
   auto text = [](const nlohmann::json& v) { return markdown_cell(v.get<std::string>()); };
@@ -197,10 +205,16 @@ std::string summary_markdown(const nlohmann::json& s) {
         format_number("%.1f", 100.0 * all["success_ci95"][1].get<double>()) +
         "%). Planning time per trial: median " + fmt(all["planning_time_s"]["median"], "%.3f") +
         " s, p90 " + fmt(all["planning_time_s"]["p90"], "%.3f") + " s.\n\n";
-  md +=
-      "| scenario | robot | environment | planner | success | 95% CI | planning s (median / p90) "
-      "| joint path | EE path m | duration s | failures |\n";
-  md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  // The groups' columns: identity, success, the table's summary.md fields, failures.
+  md += "| scenario | robot | environment | planner | success | 95% CI |";
+  std::string rule = "|---|---|---|---|---|---|";
+  for (const TrialField& f : fields) {
+    if (f.display.summary_md.empty()) continue;
+    md += " " + std::string(f.display.summary_md) +
+          (f.summary == FieldSummary::kMedianP90 ? " (median / p90)" : "") + " |";
+    rule += "---|";
+  }
+  md += " failures |\n" + rule + "---|\n";
   for (const nlohmann::json& g : s["groups"]) {
     std::string failures;
     for (const auto& [status, count] : g["statuses"].items()) {
@@ -212,13 +226,17 @@ std::string summary_markdown(const nlohmann::json& s) {
           " | " + text(g["planner"]) + " | " + std::to_string(g["successes"].get<int>()) + "/" +
           std::to_string(g["trials"].get<int>()) + " | " +
           format_number("%.0f", 100.0 * g["success_ci95"][0].get<double>()) + "%.." +
-          format_number("%.0f", 100.0 * g["success_ci95"][1].get<double>()) + "% | " +
-          fmt(g["planning_time_s"]["median"], "%.3f") + " / " +
-          fmt(g["planning_time_s"]["p90"], "%.3f") + " | " +
-          fmt(g["path_length_joint"]["median"], "%.2f") + " | " +
-          fmt(g["path_length_ee_m"]["median"], "%.2f") + " | " +
-          fmt(g["duration_s"]["median"], "%.1f") + " | " + (failures.empty() ? "-" : failures) +
-          " |\n";
+          format_number("%.0f", 100.0 * g["success_ci95"][1].get<double>()) + "% |";
+    for (const TrialField& f : fields) {
+      if (f.display.summary_md.empty()) continue;
+      const std::string format(f.display.format), name(f.name);
+      md += " " + fmt(statistic(g, name, "median"), format.c_str());
+      if (f.summary == FieldSummary::kMedianP90) {
+        md += " / " + fmt(statistic(g, name, "p90"), format.c_str());
+      }
+      md += " |";
+    }
+    md += " " + (failures.empty() ? std::string("-") : failures) + " |\n";
   }
   return md;
 }

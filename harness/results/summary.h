@@ -1,7 +1,8 @@
 // summary.json and summary.md of a run: per scenario (program), robot, environment and
 // planner, the success rate with a 95% Wilson score interval, the status counts, planning
 // time (median and 90th percentile over the group's trials, all trials included) and the
-// medians of path lengths, duration and wall time. Trials are taken in id order, so the
+// medians of path lengths, duration and wall time: the statistics harness/results/trial_schema.h
+// asks for, and summary.md's columns from the same table. Trials are taken in id order, so the
 // summary of a run does not depend on the order trials finished in.
 #pragma once
 
@@ -49,7 +50,10 @@ struct RunInfo {
 // `fields`: the trial fields summarised per group (TrialField::summary).
 nlohmann::json make_summary(const RunInfo& run, std::vector<nlohmann::json> trials,
                             std::span<const TrialField> fields = kTrialFields);
-std::string summary_markdown(const nlohmann::json& summary);
+// `fields`: the columns per group are those with a summary.md heading (FieldDisplay::summary_md),
+// in table order; `summary` must summarise them (make_summary with the same fields).
+std::string summary_markdown(const nlohmann::json& summary,
+                             std::span<const TrialField> fields = kTrialFields);
 // Writes summary.json and summary.md (with `appendix` after the table) into `dir`, each
 // atomically.
 void write_summary(const std::filesystem::path& dir, const nlohmann::json& summary,

@@ -25,6 +25,30 @@ constexpr bool consistent() {
 }
 static_assert(consistent(), "kTrialFields: a property without a type, or a timed work count");
 
+// A field the reports show has a label; a table column has a format; summary.md's column is a
+// statistic of summary.json; compare's per-group columns are the work counts it totals; a
+// path-quality measure has the words of its findings.
+constexpr bool displays_complete() {
+  for (const TrialField& f : kTrialFields) {
+    const FieldDisplay& d = f.display;
+    const bool shown = !d.summary_md.empty() || d.compare_groups || d.planner_table ||
+                       d.path_quality != Better::kNone;
+    if (shown && d.label.empty()) return false;
+    if ((!d.summary_md.empty() || d.planner_table || d.compare_groups) && d.format.empty()) {
+      return false;
+    }
+    if (!d.summary_md.empty() && f.summary == FieldSummary::kNone) return false;
+    if (d.compare_groups && !f.exact_work) return false;
+    if ((d.path_quality != Better::kNone) != !d.better_word.empty()) return false;
+    if (d.better_word.empty() != d.worse_word.empty()) return false;
+  }
+  return true;
+}
+static_assert(displays_complete(),
+              "kTrialFields: a field shown without a label or format, a summary.md column "
+              "summary.json lacks, a compared column that is no work count, or a path-quality "
+              "measure without its words");
+
 const char* source_text(FieldSource s) {
   switch (s) {
     case FieldSource::kIdentity:
@@ -49,6 +73,20 @@ const char* summary_text(FieldSummary s) {
       return "median, p90";
   }
   return "?";
+}
+
+// Where the reports show a field, for the docs' table.
+std::string shown_in(const FieldDisplay& d) {
+  std::string out;
+  const auto add = [&out](const std::string& where) { out += (out.empty() ? "" : ", ") + where; };
+  if (!d.summary_md.empty()) add("summary.md (" + std::string(d.summary_md) + ")");
+  if (d.compare_groups) add("compare per group");
+  if (d.planner_table) add("planners' tables");
+  if (d.path_quality != Better::kNone) {
+    add(std::string("path quality (") + (d.path_quality == Better::kLower ? "lower" : "higher") +
+        " is better: " + std::string(d.better_word) + ")");
+  }
+  return out;
 }
 
 }  // namespace
@@ -80,15 +118,18 @@ const char* to_string(OmplType type) {
 std::string trial_fields_markdown() {
   std::string md =
       "| field | unit | written by | timing | summary.json | ompl.log property | exact work "
-      "count | holds |\n|---|---|---|---|---|---|---|---|\n";
+      "count | holds | reports call it | shown in |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const TrialField& f : kTrialFields) {
     const std::string property = f.ompl_property.empty() ? ""
                                                          : std::string(f.ompl_property) + " (" +
                                                                to_string(f.ompl_type) + ")";
+    std::string label(f.display.label);
+    if (!f.display.unit.empty()) label += " [" + std::string(f.display.unit) + "]";
+    if (!f.display.format.empty()) label += " `" + std::string(f.display.format) + "`";
     md += "| `" + std::string(f.name) + "` | " + std::string(f.unit) + " | " +
           source_text(f.source) + " | " + (f.timing ? "yes" : "") + " | " +
           summary_text(f.summary) + " | " + property + " | " + (f.exact_work ? "yes" : "") + " | " +
-          std::string(f.doc) + " |\n";
+          std::string(f.doc) + " | " + label + " | " + shown_in(f.display) + " |\n";
   }
   return md;
 }

@@ -1,10 +1,13 @@
 // The trial record's fields in one table: what each holds and in which unit, whether it is a
 // timing (depends on the machine and its load), how summary.json summarises it, whether it is
-// a property of the Planner Arena log (ompl.log) and of which type there, and whether it is an
-// exact work count (repeats exactly for the same trial id; `compare --exact-work` requires it).
-// trial_record.cc (the fields a trial without a result nulls), summary.cc, ompl_log.cc and
-// compare.cc (the work counts, which the reports show) take their field lists from here; the
-// table in docs/architecture.md is checked against it by a test.
+// a property of the Planner Arena log (ompl.log) and of which type there, whether it is an
+// exact work count (repeats exactly for the same trial id; `compare --exact-work` requires it),
+// and how the reports show it (FieldDisplay). trial_record.cc (the fields a trial without a
+// result nulls), summary.cc (summary.json and summary.md's columns), ompl_log.cc, compare.cc
+// (the work counts, and the per-group columns of compare's tables), path_quality.cc (the
+// measures compared) and planner_comparison.cc and html_report.cc (the planners' tables) take
+// their field lists from here; the table in docs/architecture.md is checked against it by a
+// test.
 #pragma once
 
 #include <array>
@@ -24,6 +27,23 @@ enum class FieldSummary { kNone, kMedian, kMedianP90 };
 // A Planner Arena property's type in ompl.log (kNone: not a property).
 enum class OmplType { kNone, kReal, kInteger, kBoolean, kEnum };
 
+// Which way a path-quality measure is better (kNone: not a path-quality measure).
+enum class Better { kNone, kLower, kHigher };
+
+// How the reports show a field; a field no report shows leaves it empty.
+struct FieldDisplay {
+  std::string_view label = {};       // its name in reports: "end-effector path"
+  std::string_view unit = {};        // printed after its values in reports: "m"; "" for none
+  std::string_view format = {};      // printf format of a value in a table column: "%.2f"
+  std::string_view summary_md = {};  // its column heading in summary.md ("" when not shown there):
+                                     // the group's median, and the p90 where summary.json has one
+  bool compare_groups = false;       // a column of compare's per-group tables (totals base -> new);
+                                     // an exact work count
+  bool planner_table = false;        // a column of the planners' tables: the median per planner
+  Better path_quality = Better::kNone;  // a path-quality measure of compare: which way is better
+  std::string_view better_word = {}, worse_word = {};  // for its findings: "shorter", "longer"
+};
+
 struct TrialField {
   std::string_view name;
   std::string_view unit;  // "s", "m", "rad or m", "count", ...; "" for text and structures
@@ -34,6 +54,7 @@ struct TrialField {
   OmplType ompl_type;
   bool exact_work;  // an exact work count, which depends on the trial id alone
   std::string_view doc;
+  FieldDisplay display = {};
 };
 
 // The table, in the order ompl.log lists its properties and compare its work counts.
@@ -64,35 +85,126 @@ inline constexpr std::array kTrialFields = {
                OmplType::kEnum, false, "success, or the failure's code"},
     TrialField{"failure_reason", "", FieldSource::kOutcome, false, FieldSummary::kNone, "",
                OmplType::kNone, false, "the failure as a user reads it (600 characters at most)"},
-    TrialField{"planning_time_s", "s", FieldSource::kMeasured, true, FieldSummary::kMedianP90,
-               "time", OmplType::kReal, false, "planners' solve time, over the plan calls"},
+    TrialField{
+        "planning_time_s",
+        "s",
+        FieldSource::kMeasured,
+        true,
+        FieldSummary::kMedianP90,
+        "time",
+        OmplType::kReal,
+        false,
+        "planners' solve time, over the plan calls",
+        {.label = "planning time", .unit = "s", .format = "%.3f", .summary_md = "planning s"}},
     TrialField{"simplification_time_s", "s", FieldSource::kMeasured, true, FieldSummary::kMedian,
                "simplification time", OmplType::kReal, false, "path simplification time"},
-    TrialField{"collision_checks", "count", FieldSource::kMeasured, false, FieldSummary::kMedian,
-               "collision checks", OmplType::kInteger, true,
-               "the planners' validity checks and is_valid queries"},
-    TrialField{"plan_calls", "count", FieldSource::kMeasured, false, FieldSummary::kMedian,
-               "plan calls", OmplType::kInteger, true, "the programs' plan requests"},
+    TrialField{"collision_checks",
+               "count",
+               FieldSource::kMeasured,
+               false,
+               FieldSummary::kMedian,
+               "collision checks",
+               OmplType::kInteger,
+               true,
+               "the planners' validity checks and is_valid queries",
+               {.label = "collision checks",
+                .format = "%.0f",
+                .compare_groups = true,
+                .planner_table = true}},
+    TrialField{"plan_calls",
+               "count",
+               FieldSource::kMeasured,
+               false,
+               FieldSummary::kMedian,
+               "plan calls",
+               OmplType::kInteger,
+               true,
+               "the programs' plan requests",
+               {.label = "plan calls", .format = "%.0f", .compare_groups = true}},
     TrialField{"planner_runs", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
                OmplType::kNone, true, "planner runs behind the plan calls (one per pose tried)"},
     TrialField{"ik_calls", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
                OmplType::kNone, true, "inverse kinematics solves"},
     TrialField{"ik_time_s", "s", FieldSource::kMeasured, true, FieldSummary::kNone, "ik time",
                OmplType::kReal, false, "inverse kinematics time, pose goals of plans included"},
-    TrialField{"path_length_joint", "rad or m", FieldSource::kMeasured, false,
-               FieldSummary::kMedian, "path length joint", OmplType::kReal, false,
-               "the executed path of all joints"},
-    TrialField{"path_length_ee_m", "m", FieldSource::kMeasured, false, FieldSummary::kMedian,
-               "path length ee", OmplType::kReal, false, "the executed path of the end effectors"},
-    TrialField{"duration_s", "s (simulated)", FieldSource::kMeasured, false, FieldSummary::kMedian,
-               "duration", OmplType::kReal, false, "the program's simulated time, set-up excluded"},
+    TrialField{"path_length_joint",
+               "rad or m",
+               FieldSource::kMeasured,
+               false,
+               FieldSummary::kMedian,
+               "path length joint",
+               OmplType::kReal,
+               false,
+               "the executed path of all joints",
+               {.label = "joint path",
+                .format = "%.2f",
+                .summary_md = "joint path",
+                .planner_table = true,
+                .path_quality = Better::kLower,
+                .better_word = "shorter",
+                .worse_word = "longer"}},
+    TrialField{"path_length_ee_m",
+               "m",
+               FieldSource::kMeasured,
+               false,
+               FieldSummary::kMedian,
+               "path length ee",
+               OmplType::kReal,
+               false,
+               "the executed path of the end effectors",
+               {.label = "end-effector path",
+                .unit = "m",
+                .format = "%.2f",
+                .summary_md = "EE path m",
+                .path_quality = Better::kLower,
+                .better_word = "shorter",
+                .worse_word = "longer"}},
+    TrialField{"duration_s",
+               "s (simulated)",
+               FieldSource::kMeasured,
+               false,
+               FieldSummary::kMedian,
+               "duration",
+               OmplType::kReal,
+               false,
+               "the program's simulated time, set-up excluded",
+               {.label = "duration",
+                .unit = "s",
+                .format = "%.1f",
+                .summary_md = "duration s",
+                .path_quality = Better::kLower,
+                .better_word = "shorter",
+                .worse_word = "longer"}},
     TrialField{"sim_time_s", "s (simulated)", FieldSource::kMeasured, false, FieldSummary::kNone,
                "", OmplType::kNone, false, "the whole trial's simulated time"},
-    TrialField{"smoothness", "rad/s^3", FieldSource::kMeasured, false, FieldSummary::kMedian,
-               "smoothness", OmplType::kReal, false, "RMS joint jerk of the executed motion"},
-    TrialField{"min_clearance_m", "m", FieldSource::kMeasured, false, FieldSummary::kMedian,
-               "min clearance", OmplType::kReal, false,
-               "smallest distance of the moving chains to anything"},
+    TrialField{"smoothness",
+               "rad/s^3",
+               FieldSource::kMeasured,
+               false,
+               FieldSummary::kMedian,
+               "smoothness",
+               OmplType::kReal,
+               false,
+               "RMS joint jerk of the executed motion",
+               {.label = "smoothness (RMS jerk)",
+                .unit = "rad/s^3",
+                .path_quality = Better::kLower,
+                .better_word = "smoother",
+                .worse_word = "jerkier"}},
+    TrialField{"min_clearance_m",
+               "m",
+               FieldSource::kMeasured,
+               false,
+               FieldSummary::kMedian,
+               "min clearance",
+               OmplType::kReal,
+               false,
+               "smallest distance of the moving chains to anything",
+               {.label = "minimum clearance",
+                .unit = "m",
+                .path_quality = Better::kHigher,
+                .better_word = "wider",
+                .worse_word = "narrower"}},
     TrialField{"clearance_samples", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
                OmplType::kNone, false, "states whose clearance was measured"},
     TrialField{"control_periods", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",

@@ -1,8 +1,9 @@
 // The common skillset's own logic (argument checks, planning to poses and goal regions over
-// the backend's hooks, work counts) and the conditions, on the fake skillset: no simulator.
+// the backend's hooks, work counts) on the fake skillset: no simulator. The conditions on it:
+// tests/core/conditions_test.cc.
 #include <gtest/gtest.h>
 
-#include "taskmatrix/core/conditions.h"
+#include "taskmatrix/core/perceptual_model.h"
 #include "tests/support/fake_skillset.h"
 #include "tests/support/skillset_conformance.h"
 
@@ -26,7 +27,6 @@ using Chains = std::vector<std::string>;
 class FakeSkillsetTest : public ::testing::Test {
  protected:
   void SetUp() override { skills_.perceive(percepts_); }
-  World world() { return World{skills_, percepts_}; }
   // A palm pose at `position`, facing along the base's +x.
   static Pose palm_at(const Eigen::Vector3d& position) {
     Pose p;
@@ -106,44 +106,6 @@ TEST_F(FakeSkillsetTest, AGoalRegionKeepsOnlyValidDrawsAndThoseCountAsThePlansWo
   // Checking the draws is part of planning, not is_valid calls of a program: only the
   // planner's own checks are added.
   EXPECT_EQ(skills_.work().collision_checks, checks + r.collision_checks);
-}
-
-TEST_F(FakeSkillsetTest, ConditionsReadTheSkillsetAndThePerceptualModel) {
-  EXPECT_TRUE(above("cup", "work_surface")->holds(world()));
-  EXPECT_TRUE(near("cup", "work_surface")->holds(world()));
-  EXPECT_FALSE(above("cup", "shelf")->holds(world()));
-  EXPECT_TRUE(
-      parse_condition("all_of(above(cup, work_surface), not(grasping(cup)))")->holds(world()));
-  EXPECT_TRUE(postural("rest")->holds(world()));
-  EXPECT_FALSE(postural("wave_start")->holds(world()));
-
-  // The left palm at the cup's centre: graspable by the left hand only.
-  EXPECT_FALSE(graspable("cup")->holds(world()));
-  IkOptions ik;
-  ik.orientation = false;
-  ik.collision_free = false;
-  const IkResult r =
-      skills_.solve_ik({"left_arm"}, "left_palm", palm_at(percepts_.find("cup")->box.center()), ik);
-  ASSERT_EQ(r.status, IkStatus::kSolved) << r.reason;
-  skills_.command({"left_arm"}, r.solutions.front());
-  skills_.advance();
-  EXPECT_TRUE(graspable("cup", "left")->holds(world()));
-  EXPECT_FALSE(graspable("cup", "right")->holds(world()));
-  EXPECT_FALSE(postural("rest")->holds(world()));
-  EXPECT_TRUE(postural("rest", {"right_arm", "head"})->holds(world()));
-
-  skills_.attach("cup", "left");
-  EXPECT_TRUE(grasping("cup")->holds(world()));
-  EXPECT_FALSE(graspable("cup")->holds(world()));  // already held
-  // Lifting the arm's shoulder carries the cup off the table.
-  skills_.command({"torso"}, {0.2});
-  skills_.advance();
-  skills_.perceive(percepts_);
-  EXPECT_FALSE(above("cup", "work_surface")->holds(world()) &&
-               near("cup", "work_surface", 0.05)->holds(world()));
-  EXPECT_NEAR(percepts_.find("cup")->box.center().z(), 1.2, 1e-9);
-  skills_.detach("cup");
-  EXPECT_FALSE(grasping("cup")->holds(world()));
 }
 
 }  // namespace
