@@ -28,6 +28,30 @@ double ray_box_entry(const Eigen::Vector3d& o, const Eigen::Vector3d& dir,
   return lo;
 }
 
+// Whether world point `p` lies inside geom `g` (a primitive shape; never a plane or mesh).
+bool inside_geom(const mjModel* m, const mjData* d, int g, const Eigen::Vector3d& p) {
+  const double* pos = d->geom_xpos + 3 * g;
+  const double* mat = d->geom_xmat + 9 * g;  // row-major: columns are the geom's axes
+  const Eigen::Vector3d w = p - Eigen::Vector3d(pos[0], pos[1], pos[2]);
+  Eigen::Vector3d q;  // p in the geom's frame
+  for (int i = 0; i < 3; ++i) q[i] = mat[i] * w[0] + mat[3 + i] * w[1] + mat[6 + i] * w[2];
+  const double* size = m->geom_size + 3 * g;
+  switch (m->geom_type[g]) {
+    case mjGEOM_SPHERE:
+      return q.norm() < size[0];
+    case mjGEOM_CAPSULE:
+      return (q - Eigen::Vector3d(0, 0, std::clamp(q.z(), -size[1], size[1]))).norm() < size[0];
+    case mjGEOM_CYLINDER:
+      return std::hypot(q.x(), q.y()) < size[0] && std::abs(q.z()) < size[1];
+    case mjGEOM_ELLIPSOID:
+      return (q.array() / Eigen::Array3d(size[0], size[1], size[2])).matrix().squaredNorm() < 1;
+    case mjGEOM_BOX:
+      return std::abs(q.x()) < size[0] && std::abs(q.y()) < size[1] && std::abs(q.z()) < size[2];
+    default:
+      return false;
+  }
+}
+
 }  // namespace
 
 HeadSensor::HeadSensor(const MujocoSkillset& skills, HeadSensorOptions options)
@@ -80,9 +104,15 @@ const SensorImage& HeadSensor::capture() {
       Eigen::Vector3d(d->cam_xpos[3 * cam], d->cam_xpos[3 * cam + 1], d->cam_xpos[3 * cam + 2]);
   const double tan_half = std::tan(m->cam_fovy[cam] * M_PI / 360.0);
   const double aspect = static_cast<double>(options_.width) / options_.height;
-  // Groups 0-2: what the renderer shows by default (unused obstacle slots are in group 3).
-  const mjtByte groups[mjNGROUP] = {1, 1, 1, 0, 0, 0};
-  const int head_body = m->cam_bodyid[cam];
+  // The robot's own geoms the camera sits inside (a housing of the body the head hangs from):
+  // a camera cannot see them, so rays pass through them.
+  enclosing_.clear();
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_bodyid[g] != m->cam_bodyid[cam] && m->geom_group[g] <= 2 &&
+        skills_.scene().is_robot_geom(g) && inside_geom(m, d, g, origin_)) {
+      enclosing_.push_back(g);
+    }
+  }
   for (int r = 0; r < options_.height; ++r) {
     for (int c = 0; c < options_.width; ++c) {
       const size_t i = static_cast<size_t>(r) * options_.width + c;
@@ -91,7 +121,7 @@ const SensorImage& HeadSensor::capture() {
       const Eigen::Vector3d dir = (u * x + v * y - z).normalized();
       rays_[i] = dir;
       int geom = -1;
-      const double dist = mj_ray(m, d, origin_.data(), dir.data(), groups, 1, head_body, &geom);
+      const double dist = ray(origin_, dir, &geom);
       if (geom < 0 || dist < 0 || dist > options_.range_m) {
         image_.depth_m[i] = 0.0f;
         image_.thing[i] = -1;
@@ -104,6 +134,27 @@ const SensorImage& HeadSensor::capture() {
     }
   }
   return image_;
+}
+
+double HeadSensor::ray(const Eigen::Vector3d& from, const Eigen::Vector3d& dir, int* geom) const {
+  const mjModel* m = skills_.model();
+  const mjData* d = skills_.sim_data();
+  // Groups 0-2: what the renderer shows by default (unused obstacle slots are in group 3).
+  const mjtByte groups[mjNGROUP] = {1, 1, 1, 0, 0, 0};
+  const int head_body = m->cam_bodyid[skills_.scene().head_camera()];
+  const Eigen::Vector3d unit = dir.normalized();
+  const double scale = dir.norm();  // mj_ray measures in multiples of |dir|
+  double travelled = 0;             // metres, past enclosing geoms
+  for (size_t k = 0;; ++k) {
+    const Eigen::Vector3d start = from + travelled * unit;
+    const double dist = mj_ray(m, d, start.data(), dir.data(), groups, 1, head_body, geom);
+    if (*geom < 0 || dist < 0) return dist;
+    if (k == enclosing_.size() ||
+        std::find(enclosing_.begin(), enclosing_.end(), *geom) == enclosing_.end()) {
+      return dist + travelled / scale;
+    }
+    travelled += dist * scale + 1e-6;  // out of the enclosing geom, on
+  }
 }
 
 std::vector<Recognition> HeadSensor::recognise() const {
@@ -152,11 +203,8 @@ void SensorPerception::update(double time, core::PerceptualModel& model) {
     const Eigen::Vector3d centre = o.box.center();
     if (!core::in_camera_view(skills_, centre)) continue;
     const Eigen::Vector3d to = centre - eye;
-    mjtNum from[3] = {eye.x(), eye.y(), eye.z()}, dir[3] = {to.x(), to.y(), to.z()};
     int geom = -1;
-    const mjtByte groups[mjNGROUP] = {1, 1, 1, 0, 0, 0};  // as the sensor's rays
-    const double hit = mj_ray(skills_.model(), skills_.sim_data(), from, dir, groups, 1,
-                              skills_.model()->cam_bodyid[skills_.scene().head_camera()], &geom);
+    const double hit = sensor_.ray(eye, to, &geom);  // as the sensor's rays
     const double entry = ray_box_entry(eye, to.normalized(), o.box) / to.norm();
     if (hit < 0 || hit >= entry - 1e-6) gone.push_back(id);
   }

@@ -57,6 +57,10 @@ class HeadSensor {
   // World point where pixel `i`'s ray ended in the last capture; nullopt for no hit.
   std::optional<Eigen::Vector3d> hit_point(size_t i) const;
   const HeadSensorOptions& options() const { return options_; }
+  // mj_ray from `from` along `dir` as the sensor's rays go (the camera's body excluded, and
+  // the robot geoms the camera sat inside at the last capture passed through): the distance
+  // in multiples of |dir| and the geom hit, or -1 and geom -1 for none.
+  double ray(const Eigen::Vector3d& from, const Eigen::Vector3d& dir, int* geom) const;
 
  private:
   void map_geoms();
@@ -69,6 +73,7 @@ class HeadSensor {
   std::vector<Eigen::Vector3d> rays_;  // world directions of the last capture (unit)
   std::vector<double> distance_;       // along each ray; -1 for no hit
   Eigen::Vector3d origin_;
+  std::vector<int> enclosing_;  // robot geoms holding the camera at the last capture
 };
 
 class SensorPerception final : public core::Perception {

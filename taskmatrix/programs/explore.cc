@@ -8,7 +8,9 @@
 // +-0.5 and +-1.0 rad. After each scan, the next viewpoint is the one whose camera frustum
 // holds the most cells not yet observed (ties: the closest in joint space); cells that were
 // in the frustum of two viewpoints without being observed count as unobservable (occluded,
-// out of range) and are not chased further. Motion to a viewpoint is planned (collision-free).
+// out of range) and are not chased further. Motion to a viewpoint is planned (collision-free);
+// a viewpoint in collision (an arm swept into furniture by a base turn) is taken from a base
+// moved away from where it stands (up to 0.45 m).
 //
 // Records "coverage" (observed cells / all cells) after every scan. Completes when coverage
 // reaches `coverage`; fails with "coverage_short: ..." when no viewpoint promises a new cell
@@ -235,12 +237,38 @@ class Explore final : public core::TaskProgram {
     return cells;
   }
 
+  // A viewpoint whose configuration is in collision (a base turn sweeping an arm into the
+  // furniture beside the robot): the same head and turn from a base moved away by up to
+  // 0.45 m, in the first of eight directions (backwards first) that is collision-free and
+  // still shows a cell not yet observed. Nothing if none is.
+  std::optional<std::vector<double>> clear_variant(core::Skillset& skills,
+                                                   const std::vector<double>& v) const {
+    if (!base_) return std::nullopt;
+    const size_t n = v.size() - 3;  // the head's joints come first, then base x, y, yaw
+    const double heading = v[n + 2];
+    for (double d : {0.1, 0.2, 0.3, 0.45}) {
+      for (double a : {M_PI, 0.75 * M_PI, -0.75 * M_PI, 0.5 * M_PI, -0.5 * M_PI, 0.25 * M_PI,
+                       -0.25 * M_PI, 0.0}) {
+        std::vector<double> w = v;
+        w[n] += d * std::cos(heading + a);
+        w[n + 1] += d * std::sin(heading + a);
+        if (!skills.is_valid(chains_, w)) continue;
+        for (size_t c : in_view(skills, w)) {
+          if (!observed_[c] && missed_[c] < 2) return w;
+        }
+      }
+    }
+    return std::nullopt;
+  }
+
   // Plans to the most promising viewpoint; an unreachable one is skipped for the next best.
+  // A viewpoint in collision is replaced by its clear variant (or dropped) before planning,
+  // so that only plans count against the six attempts.
   void next_viewpoint(core::ProgramContext& ctx) {
     core::Skillset& skills = ctx.skills();
     const std::vector<double> now = skills.configuration(chains_);
     std::string unreachable;
-    for (int attempt = 0; attempt < 6; ++attempt) {
+    for (int attempt = 0; attempt < 6;) {
       int best = -1;
       size_t best_gain = 0;
       double best_dist = 0;
@@ -258,8 +286,21 @@ class Explore final : public core::TaskProgram {
       }
       if (best < 0) break;
       visited_.insert(static_cast<size_t>(best));
+      std::vector<double> goal = viewpoints_[static_cast<size_t>(best)];
+      if (!skills.is_valid(chains_, goal)) {
+        const std::optional<std::vector<double>> clear = clear_variant(skills, goal);
+        if (!clear) {
+          unreachable =
+              "every viewpoint showing more is in collision, also from a base moved "
+              "up to 0.45 m";
+          continue;
+        }
+        goal = *clear;
+        best_cells = in_view(skills, goal);
+      }
+      ++attempt;
       const std::optional<core::Failure> planned =
-          motion_.plan_to_configuration(ctx, chains_, viewpoints_[best]);
+          motion_.plan_to_configuration(ctx, chains_, goal);
       if (!planned) {
         expected_ = std::move(best_cells);
         return;

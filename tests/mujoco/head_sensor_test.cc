@@ -1,10 +1,11 @@
-// The simulated head sensor and perception mode `sensor`, on both robots in the kitchen.
+// The simulated head sensor and perception mode `sensor`, on every robot in the kitchen.
 #include "taskmatrix/mujoco/head_sensor.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "taskmatrix/core/conditions.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::mujoco {
@@ -113,16 +114,32 @@ TEST_P(HeadSensorTest, SensorModeKnowsOnlyWhatTheHeadHasSeen) {
   ASSERT_TRUE(report.collision);
   EXPECT_EQ(report.collision->other, "obstacle_0");
 
-  // Turn the head towards the obstacle: once seen, queries know it.
+  // Turn the head towards the obstacle (its first joint to the right, level; a neck that
+  // cannot turn, the base): once seen, queries know it.
   skills_->reset();
+  const std::vector<double> start_base = skills_->configuration({"base"});
   const core::ChainInfo& head = skills_->chain("head");
   std::vector<double> look(head.joints.size(), 0.0);
-  look[0] = head.lower[0];  // yaw to the right, level
+  look[0] = head.lower[0];
   skills_->set_configuration({"head"}, look);
+  for (int turn = 1; turn <= 8 && !core::in_camera_view(*skills_, hand); ++turn) {
+    for (int tilt = 0; tilt <= 4 && !core::in_camera_view(*skills_, hand); ++tilt) {
+      std::vector<double> tilted(head.joints.size(), 0.0), turned = start_base;
+      tilted[0] = head.lower[0] + (head.upper[0] - head.lower[0]) * tilt / 4;
+      turned[2] -= 0.25 * turn;  // the base's yaw, to the right
+      skills_->set_configuration({"head"}, tilted);
+      skills_->set_configuration({"base"}, turned);
+    }
+  }
+  if (!core::in_camera_view(*skills_, hand)) {
+    GTEST_SKIP() << "no turn of the head or base (up to 2 rad) brings the raised hand's place "
+                    "into the head camera's view";
+  }
   perception.update(1.0, model);
   ASSERT_TRUE(model.knows("obstacle_0"));
   EXPECT_DOUBLE_EQ(model.find("obstacle_0")->last_seen, 1.0);
   EXPECT_TRUE(skills_->obstacle_known(0));
+  skills_->set_configuration({"base"}, start_base);
   EXPECT_FALSE(skills_->is_valid({"right_arm"}, out_to_side));
   // A reset (a new trial) forgets what was seen.
   skills_->reset();
@@ -168,7 +185,9 @@ TEST_P(HeadSensorTest, TheImageIsUprightAndDepthIsAlongTheOpticalAxis) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, HeadSensorTest, ::testing::Values("tallbot", "minibot"),
+// Every robot of the models folder, so a user's robot gets these checks too (a head camera
+// inside the robot's own geometry once left a robot's sensor seeing nothing but its torso).
+INSTANTIATE_TEST_SUITE_P(Robots, HeadSensorTest, ::testing::ValuesIn(test::catalog().robots()),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
 
 }  // namespace
