@@ -204,5 +204,31 @@ TEST_P(ProgramBehaviourTest, AFailureInsideAMachineNamesTheStatesItFailedIn) {
 INSTANTIATE_TEST_SUITE_P(BothRobots, ProgramBehaviourTest, ::testing::ValuesIn(scenario_pairs()),
                          [](const auto& p) { return test::pair_name(p.param); });
 
+// atlas stands with its hands beside the table: every base turn that would show the side
+// surface sweeps a hand into the table, and its head camera sits inside its shoulders box.
+// explore takes those viewpoints from a base moved away, and the sensor sees past the box.
+TEST(ExploreOnAtlas, ViewpointsInCollisionAreTakenFromAMovedBase) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  Scenario s = program_scenario("explore");
+  s.execution = "kinematic";
+  std::vector<double> base_at_end;
+  const TrialResult r =
+      run_trial(s, *test::loaded_scene("atlas", "kitchen"), s.layout_seed, s.seed, registry(),
+                [&](const std::string& moment, const core::TrialWorld& world) {
+                  if (moment == "end") base_at_end = world.skills().configuration({"base"});
+                });
+  ASSERT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  ASSERT_EQ(base_at_end.size(), 3u);
+  EXPECT_GT(std::hypot(base_at_end[0], base_at_end[1]), 0.05) << "the base did not move away";
+  double coverage = 0;
+  for (const core::RecordedSeries& series : r.series) {
+    if (series.name == "coverage" && !series.samples.empty())
+      coverage = series.samples.back().second;
+  }
+  EXPECT_GE(coverage, 0.9);
+}
+
 }  // namespace
 }  // namespace taskmatrix::harness
