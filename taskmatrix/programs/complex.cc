@@ -8,7 +8,8 @@
 //                               above(object, surface) and near(object, surface), then release
 //   greet    target, side       fixate on the target until it is centred; then, tracking it
 //                               (head and base), raise a free arm (postural wave_start), wave
-//                               (canned wave, while in_view(target) holds) and lower the arm
+//                               (canned wave, while in_view(target) holds); tracking stops and
+//                               the arm is lowered
 //   vacuum   tool, surface      Fig. 4: pickup the tool; position its tip over the nearest
 //                               debris while any is known; putdown the tool on the surface
 #include "taskmatrix/core/state_machine.h"
@@ -160,7 +161,8 @@ MachineSpec greet() {
   m.transitions = {on_completed("find", "raise"), on_completed("raise", "wave"),
                    on_completed("wave", "lower"), on_completed("lower", "greeted")};
   m.transitions[0].start = {"track"};
-  m.transitions[3].stop = {"track"};
+  // Tracking turns the base and head; the arms' plan down to rest assumes they stay put.
+  m.transitions[2].stop = {"track"};
   return m;
 }
 
