@@ -230,5 +230,19 @@ TEST(ExploreOnAtlas, ViewpointsInCollisionAreTakenFromAMovedBase) {
   EXPECT_GE(coverage, 0.9);
 }
 
+// greet's tracking turns the base towards the visitor; the arms' plan down to rest assumes
+// the base stays put. With tracking still running while atlas lowered its arms, a base turn
+// swept its fingers into the side surface (office, layout 4).
+TEST(GreetOnAtlas, TrackingStopsBeforeTheArmsAreLowered) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  Scenario s = program_scenario("greet");
+  s.execution = "kinematic";
+  const TrialResult r = run_trial(s, *test::loaded_scene("atlas", "office"), s.layout_seed + 1,
+                                  s.seed + 1, registry());
+  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+}
+
 }  // namespace
 }  // namespace taskmatrix::harness
