@@ -158,7 +158,26 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   ik.collision_free = false;  // it starts in contact; execution checks the rest
   ik.position_tolerance_m = 0.003;
   ik.orientation_tolerance_rad = 0.03;
-  std::vector<std::vector<double>> path = {clamped_configuration(skills, {arm})};
+  // The lowest corner of what the hand holds (its perceived box), with the palm at `q`: a
+  // held object must rise, not pivot about the grip into what it rests on.
+  auto lowest_held_point = [&](const std::vector<double>& q) {
+    const core::Pose at = skills.frame_pose_at({arm}, q, hand->palm);
+    const Eigen::Quaterniond turn = at.orientation * palm.orientation.conjugate();
+    double lowest = INFINITY;
+    for (const std::string& o : held) {
+      const core::PerceivedObject* seen = ctx.percepts().find(o);
+      if (!seen) continue;
+      for (int c = 0; c < 8; ++c) {
+        const Eigen::Vector3d corner =
+            seen->box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c));
+        lowest = std::min(lowest, (at.position + turn * (corner - palm.position)).z());
+      }
+    }
+    return lowest;
+  };
+  const std::vector<double> from = clamped_configuration(skills, {arm});
+  const double lowest_now = lowest_held_point(from);
+  std::vector<std::vector<double>> path = {from};
   for (double share : {0.5, 1.0}) {
     core::Pose target = palm;
     target.position += share * distance_m * direction;
@@ -167,9 +186,13 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
     core::IkResult r = skills.solve_ik({arm}, hand->palm, target, ik);
     if (r.solutions.empty()) {
       // An arm that cannot keep the hand's orientation exactly (five joints) keeps it as
-      // near as damped least squares from here does.
+      // near as damped least squares from here does, unless that tips what it holds down.
       ik.orientation = false;
       r = skills.solve_ik({arm}, hand->palm, target, ik);
+      if (!r.solutions.empty() && !held.empty() && std::isfinite(lowest_now) &&
+          lowest_held_point(r.solutions.front()) < lowest_now + 0.25 * share * distance_m) {
+        r.solutions.clear();
+      }
     }
     if (r.solutions.empty()) break;
     path.push_back(r.solutions.front());
