@@ -69,7 +69,10 @@ double max_difference(const std::vector<double>& a, const std::vector<double>& b
 // A short straight motion that takes an arm's hand, or what it holds, off what it touches,
 // so that a plan can start free: a held object is lifted along the vertical (off the surface
 // it rests on), a bare hand withdraws against its approach axis. Computed by IK of the arm
-// alone from where it is; followed slowly, allowed to touch only what it touched.
+// alone from where it is, keeping the hand's orientation; an arm that cannot may turn the
+// hand only if the lowest corner of what it holds still rises (a quarter of the lift at
+// least), never tipping it down about the grip. Followed slowly, allowed to touch only what it
+// touched.
 struct Escape {
   std::vector<std::string> chains;
   core::TimedMotion motion;
