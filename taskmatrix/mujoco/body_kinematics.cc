@@ -1,5 +1,6 @@
 #include "taskmatrix/mujoco/body_kinematics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace taskmatrix::mujoco {
@@ -60,6 +61,32 @@ bool sphere_clear_of_box(const mjModel* m, const mjData* d, int box, const mjtNu
     if (beyond > 0) outside += beyond * beyond;
   }
   return outside > radius * radius;
+}
+
+bool point_inside_geom(const mjModel* m, const mjData* d, int g, const mjtNum* point) {
+  mjtNum rel[3], q[3];  // the point in the geom's frame
+  mju_sub3(rel, point, d->geom_xpos + 3 * g);
+  mju_rotVecMatT(q, rel, d->geom_xmat + 9 * g);
+  const mjtNum* size = m->geom_size + 3 * g;
+  switch (m->geom_type[g]) {
+    case mjGEOM_SPHERE:
+      return mju_norm3(q) < size[0];
+    case mjGEOM_CAPSULE: {
+      const mjtNum z = q[2] - std::clamp(q[2], -size[1], size[1]);
+      return q[0] * q[0] + q[1] * q[1] + z * z < size[0] * size[0];
+    }
+    case mjGEOM_CYLINDER:
+      return q[0] * q[0] + q[1] * q[1] < size[0] * size[0] && std::abs(q[2]) < size[1];
+    case mjGEOM_ELLIPSOID: {
+      mjtNum r = 0;
+      for (int i = 0; i < 3; ++i) r += (q[i] / size[i]) * (q[i] / size[i]);
+      return r < 1;
+    }
+    case mjGEOM_BOX:
+      return std::abs(q[0]) < size[0] && std::abs(q[1]) < size[1] && std::abs(q[2]) < size[2];
+    default:
+      return false;
+  }
 }
 
 }  // namespace taskmatrix::mujoco

@@ -31,4 +31,8 @@ void geom_pose_from_body(const mjModel* m, int geom, const mjtNum* body_pos,
 bool sphere_clear_of_box(const mjModel* m, const mjData* d, int box, const mjtNum* center,
                          mjtNum radius);
 
+// Whether `point` lies inside geom `g` as posed in `d`: spheres, capsules, cylinders,
+// ellipsoids and boxes; never a plane or a mesh.
+bool point_inside_geom(const mjModel* m, const mjData* d, int g, const mjtNum* point);
+
 }  // namespace taskmatrix::mujoco

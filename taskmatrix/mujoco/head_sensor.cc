@@ -1,6 +1,7 @@
 #include "taskmatrix/mujoco/head_sensor.h"
 
 #include "taskmatrix/core/conditions.h"
+#include "taskmatrix/mujoco/body_kinematics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,30 +27,6 @@ double ray_box_entry(const Eigen::Vector3d& o, const Eigen::Vector3d& dir,
     if (lo > hi) return -1;
   }
   return lo;
-}
-
-// Whether world point `p` lies inside geom `g` (a primitive shape; never a plane or mesh).
-bool inside_geom(const mjModel* m, const mjData* d, int g, const Eigen::Vector3d& p) {
-  const double* pos = d->geom_xpos + 3 * g;
-  const double* mat = d->geom_xmat + 9 * g;  // row-major: columns are the geom's axes
-  const Eigen::Vector3d w = p - Eigen::Vector3d(pos[0], pos[1], pos[2]);
-  Eigen::Vector3d q;  // p in the geom's frame
-  for (int i = 0; i < 3; ++i) q[i] = mat[i] * w[0] + mat[3 + i] * w[1] + mat[6 + i] * w[2];
-  const double* size = m->geom_size + 3 * g;
-  switch (m->geom_type[g]) {
-    case mjGEOM_SPHERE:
-      return q.norm() < size[0];
-    case mjGEOM_CAPSULE:
-      return (q - Eigen::Vector3d(0, 0, std::clamp(q.z(), -size[1], size[1]))).norm() < size[0];
-    case mjGEOM_CYLINDER:
-      return std::hypot(q.x(), q.y()) < size[0] && std::abs(q.z()) < size[1];
-    case mjGEOM_ELLIPSOID:
-      return (q.array() / Eigen::Array3d(size[0], size[1], size[2])).matrix().squaredNorm() < 1;
-    case mjGEOM_BOX:
-      return std::abs(q.x()) < size[0] && std::abs(q.y()) < size[1] && std::abs(q.z()) < size[2];
-    default:
-      return false;
-  }
 }
 
 }  // namespace
@@ -109,7 +86,7 @@ const SensorImage& HeadSensor::capture() {
   enclosing_.clear();
   for (int g = 0; g < m->ngeom; ++g) {
     if (m->geom_bodyid[g] != m->cam_bodyid[cam] && m->geom_group[g] <= 2 &&
-        skills_.scene().is_robot_geom(g) && inside_geom(m, d, g, origin_)) {
+        skills_.scene().is_robot_geom(g) && point_inside_geom(m, d, g, origin_.data())) {
       enclosing_.push_back(g);
     }
   }

@@ -64,7 +64,9 @@ core::TrialLayout MujocoLoadedScene::make_trial_layout(const core::ObstacleOptio
 
 std::vector<core::StartContact> MujocoLoadedScene::start_contacts(
     const core::TrialLayout& layout) const {
-  WorkerScene worker(scene_);
+  const std::lock_guard<std::mutex> lock(probe_mutex_);
+  if (!probe_) probe_ = std::make_unique<WorkerScene>(scene_);
+  WorkerScene& worker = *probe_;
   worker.apply(layout);
   worker.reset_to_start();
   const mjModel* m = worker.model();

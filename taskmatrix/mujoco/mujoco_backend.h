@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,10 @@ class MujocoLoadedScene final : public core::LoadedScene {
 
  private:
   std::shared_ptr<const Scene> scene_;
+  // One worker copy of the model for start_contacts, made at the first call and reused (a
+  // layout applies from the compiled model each time), as a run checks every trial's layout.
+  mutable std::mutex probe_mutex_;
+  mutable std::unique_ptr<WorkerScene> probe_;
 };
 
 class MujocoBackend final : public core::Backend {

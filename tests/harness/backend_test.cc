@@ -2,6 +2,7 @@
 // and a loaded scene's layout check and trial worlds as the runner uses them.
 #include <gtest/gtest.h>
 
+#include <regex>
 #include <stdexcept>
 
 #include "harness/backends/backends.h"
@@ -14,7 +15,8 @@ namespace {
 TEST(Backends, AnUnknownNameIsAnErrorNamingTheKnownOnes) {
   EXPECT_EQ(backend_names(), std::vector<std::string>{"mujoco"});
   EXPECT_EQ(backend("mujoco").name(), "mujoco");
-  EXPECT_EQ(backend().version(), "2.2.2");
+  EXPECT_TRUE(std::regex_match(backend().version(), std::regex(R"(\d+\.\d+\.\d+)")))
+      << backend().version();
   try {
     backend("bullet");
     FAIL() << "no error";
