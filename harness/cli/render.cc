@@ -12,9 +12,7 @@
 #include "harness/run/trial.h"
 #include "harness/scenario/scenario.h"
 #include "taskmatrix/core/input_error.h"
-#include "taskmatrix/mujoco/mujoco_backend.h"
-#include "taskmatrix/mujoco/offscreen_renderer.h"
-#include "taskmatrix/mujoco/scene.h"
+#include "taskmatrix/io/png.h"
 
 namespace taskmatrix::harness::cli {
 namespace {
@@ -32,8 +30,26 @@ struct RenderOptions {
   bool depth = false;
 };
 
+// The view's shown state through `camera` at the options' size; a size the backend cannot draw
+// is an input error naming --width.
+core::RgbImage draw(core::SceneView& view, const core::Camera& camera, const RenderOptions& o) {
+  try {
+    return view.render(camera, o.width, o.height);
+  } catch (const std::invalid_argument& e) {
+    throw core::InputError("--width", "", e.what());
+  }
+}
+
+core::DepthImage draw_depth(core::SceneView& view, const core::Camera& camera,
+                            const RenderOptions& o) {
+  try {
+    return view.render_depth(camera, o.width, o.height);
+  } catch (const std::invalid_argument& e) {
+    throw core::InputError("--width", "", e.what());
+  }
+}
+
 int render_trial(const ModelCatalog& catalog, const RenderOptions& o) {
-  namespace mj = taskmatrix::mujoco;
   if (o.out.empty() == o.video.empty()) {
     throw core::InputError(
         "render", "", "--trial needs one of --out F.png (a frame) and --video F.mp4 (the trial)");
@@ -56,16 +72,14 @@ int render_trial(const ModelCatalog& catalog, const RenderOptions& o) {
   const size_t frame = o.time < 0 ? replay.frames() - 1 : replay.frame_at(o.time);
   replay.show(frame);
   std::string camera = o.camera;
-  const mj::CameraView view = camera_view(replay.scene(), camera);
-  mj::OffscreenRenderer renderer(replay.scene().model(), o.width, o.height);
-  mj::write_png(o.out, renderer.render_rgb(replay.worker().model(), replay.worker().data(), view));
+  const core::Camera view = camera_view(replay.view(), camera);
+  io::write_png(o.out, draw(replay.view(), view, o));
   std::printf("%s: trial %s at t = %.2f s (frame %zu of %zu), camera %s\n", o.out.c_str(),
               o.trial.c_str(), replay.time_of(frame), frame + 1, replay.frames(), camera.c_str());
   return 0;
 }
 
 int render(const ModelCatalog& catalog, core::ProgramRegistry& programs, const RenderOptions& o) {
-  namespace mj = taskmatrix::mujoco;
   if (!o.trial.empty()) return render_trial(catalog, o);
   if (o.robot.empty() || o.environment.empty()) {
     throw core::InputError("render", "", "needs --robot and --env, or --trial");
@@ -73,32 +87,28 @@ int render(const ModelCatalog& catalog, core::ProgramRegistry& programs, const R
   if (o.out.empty()) throw core::InputError("render", "", "needs --out F.png");
   const std::shared_ptr<const core::LoadedScene> loaded =
       backend().load(catalog.robot_dir(o.robot), catalog.environment_dir(o.environment));
-  // Pictures are the MuJoCo backend's (its offscreen renderer).
-  const std::shared_ptr<const mj::Scene>& scene = mj::scene_of(*loaded);
-  mj::WorkerScene worker(scene);
+  core::TrialLayout layout;
   if (o.scenario.empty()) {
-    worker.apply_layout(scene->make_layout(o.obstacles, static_cast<std::uint64_t>(o.seed)));
+    core::ObstacleOptions obstacles;
+    obstacles.count = o.obstacles;
+    layout = loaded->make_trial_layout(obstacles, {}, static_cast<std::uint64_t>(o.seed));
   } else {
     const Scenario s = load_run_plan(o.scenario, catalog, programs).scenarios.at(0);
-    worker.apply(draw_trial_layout(s, *loaded, static_cast<std::uint64_t>(o.seed),
-                                   "--seed " + std::to_string(o.seed)));
-    worker.reset_to_start();
+    layout = draw_trial_layout(s, *loaded, static_cast<std::uint64_t>(o.seed),
+                               "--seed " + std::to_string(o.seed));
   }
-  std::vector<double> qpos = worker.start_qpos();
+  const std::unique_ptr<core::SceneView> view = loaded->make_view(layout);
   try {
-    scene->apply_posture(o.posture, qpos.data());
+    view->show_posture(o.posture);
   } catch (const std::out_of_range& e) {
     throw core::InputError("--posture", "", e.what());
   }
-  std::copy(qpos.begin(), qpos.end(), worker.data()->qpos);
-  mj_forward(worker.model(), worker.data());
 
   std::string camera = o.camera;
-  const mj::CameraView view = camera_view(*scene, camera);
-  mj::OffscreenRenderer renderer(scene->model(), o.width, o.height);
+  const core::Camera through = camera_view(*view, camera);
   if (o.depth) {
-    const mj::DepthImage depth = renderer.render_depth(worker.model(), worker.data(), view);
-    mj::write_depth_png(o.out, depth);
+    const core::DepthImage depth = draw_depth(*view, through, o);
+    io::write_depth_png(o.out, depth);
     float near = INFINITY, far = 0;
     for (float v : depth.metres) {
       if (std::isfinite(v)) {
@@ -108,7 +118,7 @@ int render(const ModelCatalog& catalog, core::ProgramRegistry& programs, const R
     }
     std::printf("depth %.3f..%.3f m (grey 255..40)\n", near, far);
   } else {
-    mj::write_png(o.out, renderer.render_rgb(worker.model(), worker.data(), view));
+    io::write_png(o.out, draw(*view, through, o));
   }
   std::printf("%s: %s in %s, seed %lld, %s, camera %s%s\n", o.out.c_str(), o.robot.c_str(),
               o.environment.c_str(), o.seed,

@@ -66,7 +66,7 @@ void measure(PairedGroup& g, const std::vector<Pair>& pairs) {
     g.new_successes += n;
     g.only_base_success += b && !n;
     g.only_new_success += n && !b;
-    const double tb = number(*p.base, "planning_time_s"), tn = number(*p.fresh, "planning_time_s");
+    const double tb = number(*p.base, kPlanningTimeField), tn = number(*p.fresh, kPlanningTimeField);
     if (tb > 0 && tn > 0) {
       log_ratios.push_back(std::log(tn / tb));
       g.base_planning_s.push_back(tb);
@@ -162,7 +162,7 @@ void judge(PairedGroup& g, const CompareThresholds& t, const BudgetJudgement& bu
       g.regressions.push_back(
           printf_string("%.0f successful new trials lack ", w.missing_in_successful_new) + w.field);
     }
-    if (w.field != "collision_checks") continue;
+    if (w.field != kCollisionChecksField) continue;
     if (w.base_total <= 0) {
       if (w.new_total > 0) {
         costlier.push_back(printf_string("collision checks 0 -> %.0f (", w.new_total) +
@@ -198,7 +198,7 @@ BudgetJudgement within_budget_by_design(const std::vector<Pair>& pairs,
         // the limit. OMPL checks its clock between iterations: allow an iteration's overshoot.
         const double runs = number(call, "planner_runs");
         const double budget = limit->second * (std::isfinite(runs) && runs > 1 ? runs : 1);
-        const double took = number(call, "planning_time_s");
+        const double took = number(call, kPlanningTimeField);
         if (took > budget * 1.1 + 0.02) {
           return {false, "a plan call of " + text(*p.fresh, "trial_id") +
                              printf_string(" planned %.2f s, over its %.2f s limit", took, budget)};

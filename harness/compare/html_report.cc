@@ -146,7 +146,7 @@ std::vector<double> planning_times(const std::vector<nlohmann::json>& trials,
   std::vector<double> out;
   for (const nlohmann::json& t : trials) {
     if (t.value("planner", std::string()) != planner) continue;
-    const auto it = t.find("planning_time_s");
+    const auto it = t.find(kPlanningTimeField);
     if (it != t.end() && it->is_number() && it->get<double>() > 0) out.push_back(it->get<double>());
   }
   return out;

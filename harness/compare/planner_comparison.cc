@@ -5,6 +5,7 @@
 
 #include "harness/compare/html_report.h"
 #include "harness/results/summary.h"
+#include "harness/results/trial_schema.h"
 #include "harness/scenario/planner_plugins.h"
 #include "taskmatrix/core/motion_planning.h"
 
@@ -137,7 +138,7 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
     std::vector<double> times;
     for (const nlohmann::json& t : mine) {
       s += t.value("success", false);
-      const auto it = t.find("planning_time_s");
+      const auto it = t.find(kPlanningTimeField);
       if (it != t.end() && it->is_number()) times.push_back(it->get<double>());
     }
     const int n = static_cast<int>(mine.size());
@@ -166,7 +167,7 @@ std::string planner_table_markdown(const std::vector<nlohmann::json>& trials,
     }
     double checks = NAN;
     for (const WorkCountChange& w : o.work) {
-      if (w.field == "collision_checks" && w.base_total > 0) checks = w.new_total / w.base_total;
+      if (w.field == kCollisionChecksField && w.base_total > 0) checks = w.new_total / w.base_total;
     }
     std::string verdict;
     for (const std::string& r : o.regressions) verdict += (verdict.empty() ? "worse: " : "; ") + r;

@@ -1,11 +1,12 @@
 #include "harness/replay/replay.h"
 
 #include <algorithm>
+#include <span>
+#include <stdexcept>
 
 #include "harness/backends/backends.h"
 #include "harness/results/trial_record.h"
 #include "taskmatrix/core/input_error.h"
-#include "taskmatrix/mujoco/mujoco_backend.h"
 
 namespace taskmatrix::harness {
 
@@ -37,22 +38,22 @@ std::filesystem::path trajectory_of(const std::string& run_dir_and_trial) {
 
 Replay::Replay(const ModelCatalog& catalog, TrajectoryFile trajectory)
     : trajectory_(std::move(trajectory)),
-      scene_(mujoco::scene_of(*backend().load(catalog.robot_dir(trajectory_.robot),
-                                              catalog.environment_dir(trajectory_.environment)))),
-      worker_(scene_) {
-  if (trajectory_.recording.nq != worker_.model()->nq) {
+      scene_(backend().load(catalog.robot_dir(trajectory_.robot),
+                            catalog.environment_dir(trajectory_.environment))),
+      view_(scene_->make_view(core::TrialLayout{trajectory_.variation, trajectory_.layout})) {
+  if (trajectory_.recording.nq != view_->state_size()) {
     throw core::InputError("trajectory", "nq",
                            "recorded with " + std::to_string(trajectory_.recording.nq) +
                                " positions but the model has " +
-                               std::to_string(worker_.model()->nq) +
+                               std::to_string(view_->state_size()) +
                                " (the robot or environment changed since)");
   }
-  worker_.apply(core::TrialLayout{trajectory_.variation, trajectory_.layout});
-  for (const std::string& name : trajectory_.removed_bodies) {
-    const int body = mj_name2id(worker_.model(), mjOBJ_BODY, name.c_str());
-    if (body < 0) throw core::InputError("trajectory", "removals", "no body '" + name + "'");
-    removed_body_ids_.push_back(body);
-    removed_body_z_.push_back(worker_.model()->body_pos[3 * body + 2]);
+  if (trajectory_.removed_bodies.size() != trajectory_.recording.removals.size()) {
+    throw core::InputError("trajectory", "removals",
+                           "names " + std::to_string(trajectory_.removed_bodies.size()) +
+                               " removed bodies for " +
+                               std::to_string(trajectory_.recording.removals.size()) +
+                               " removals");
   }
 }
 
@@ -68,19 +69,19 @@ size_t Replay::frame_at(double t) const {
 void Replay::show(size_t frame) {
   const core::StateRecording& r = trajectory_.recording;
   if (frame >= r.frames()) throw std::out_of_range("replay frame out of range");
-  mjModel* m = worker_.model();
-  mjData* d = worker_.data();
-  for (int i = 0; i < r.nq; ++i) {
-    d->qpos[i] = r.qpos[frame * static_cast<size_t>(r.nq) + static_cast<size_t>(i)];
+  std::vector<std::string> removed;
+  for (size_t k = 0; k < r.removals.size(); ++k) {
+    if (r.removals[k].time_s <= r.times[frame] + 1e-9) {
+      removed.push_back(trajectory_.removed_bodies[k]);
+    }
   }
-  // Quaternions lost precision as float: normalise them for rendering.
-  mj_normalizeQuat(m, d->qpos);
-  for (size_t k = 0; k < removed_body_ids_.size(); ++k) {
-    const bool gone = r.removals[k].time_s <= r.times[frame] + 1e-9;
-    m->body_pos[3 * removed_body_ids_[k] + 2] = removed_body_z_[k] - (gone ? 10.0 : 0.0);
+  const size_t nq = static_cast<size_t>(r.nq);
+  try {
+    view_->show_state(std::span<const float>(r.qpos).subspan(frame * nq, nq), r.times[frame],
+                      removed);
+  } catch (const std::out_of_range& e) {
+    throw core::InputError("trajectory", "removals", e.what());
   }
-  d->time = r.times[frame];
-  mj_forward(m, d);
 }
 
 }  // namespace taskmatrix::harness

@@ -4,11 +4,12 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "harness/replay/trajectory_file.h"
 #include "harness/scenario/model_catalog.h"
-#include "taskmatrix/mujoco/scene.h"
+#include "taskmatrix/core/backend.h"
 
 namespace taskmatrix::harness {
 
@@ -16,7 +17,8 @@ namespace taskmatrix::harness {
 // run directory's trials.jsonl when the trial or its trajectory is not there.
 std::filesystem::path trajectory_of(const std::string& run_dir_and_trial);
 
-// A replay of one recorded trial on its own worker copy of the scene.
+// A replay of one recorded trial through a view of its scene (core/scene_view.h), from the
+// backend that recorded it.
 class Replay {
  public:
   Replay(const ModelCatalog& catalog, TrajectoryFile trajectory);
@@ -24,17 +26,16 @@ class Replay {
   double time_of(size_t frame) const { return trajectory_.recording.times.at(frame); }
   // The frame nearest simulated time t.
   size_t frame_at(double t) const;
-  // Sets the worker's state to the frame (positions, removed debris), then mj_forward.
+  // Shows the frame's state in the view (positions, debris removed by then). Throws
+  // core::InputError("trajectory", "removals") for a removed object the scene lacks.
   void show(size_t frame);
-  mujoco::WorkerScene& worker() { return worker_; }
-  const mujoco::Scene& scene() const { return *scene_; }
+  core::SceneView& view() { return *view_; }
+  const core::LoadedScene& scene() const { return *scene_; }
 
  private:
   TrajectoryFile trajectory_;
-  std::shared_ptr<const mujoco::Scene> scene_;
-  mujoco::WorkerScene worker_;
-  std::vector<int> removed_body_ids_;
-  std::vector<double> removed_body_z_;  // as compiled
+  std::shared_ptr<const core::LoadedScene> scene_;
+  std::unique_ptr<core::SceneView> view_;
 };
 
 }  // namespace taskmatrix::harness

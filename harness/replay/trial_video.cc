@@ -1,12 +1,12 @@
 #include "harness/replay/trial_video.h"
 
 #include <fcntl.h>
-#include <lodepng.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -18,11 +18,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <mujoco/mujoco.h>
-
 #include "harness/replay/replay.h"
 #include "taskmatrix/core/input_error.h"
-#include "taskmatrix/mujoco/kinematics.h"
+#include "taskmatrix/io/png.h"
 
 extern char** environ;
 
@@ -31,7 +29,7 @@ namespace taskmatrix::harness {
 namespace {
 
 // "lookat:X,Y,Z[,D[,AZ[,EL]]]" into `view`.
-void parse_lookat(const std::string& camera, mujoco::CameraView& view) {
+void parse_lookat(const std::string& camera, core::Camera& view) {
   std::vector<double> v;
   std::stringstream in(camera.substr(7));
   for (std::string item; std::getline(in, item, ',');) {
@@ -62,8 +60,8 @@ void parse_lookat(const std::string& camera, mujoco::CameraView& view) {
     throw core::InputError("--camera", "",
                            "'" + camera + "': the elevation must be within -90..90 degrees");
   }
-  view.fixed_camera = -1;
-  for (int i = 0; i < 3; ++i) view.lookat[i] = v[static_cast<size_t>(i)];
+  view.name.clear();
+  view.lookat = Eigen::Vector3d(v[0], v[1], v[2]);
   view.distance = v.size() > 3 ? v[3] : 1.5;
   view.azimuth = v.size() > 4 ? v[4] : 210;
   view.elevation = v.size() > 5 ? v[5] : -25;
@@ -71,29 +69,29 @@ void parse_lookat(const std::string& camera, mujoco::CameraView& view) {
 
 }  // namespace
 
-std::string lookat_camera_text(const mujoco::CameraView& view) {
+std::string lookat_camera_text(const core::Camera& view) {
   char buf[160];
   std::snprintf(buf, sizeof buf, "lookat:%.3f,%.3f,%.3f,%.2f,%.0f,%.0f", view.lookat[0],
                 view.lookat[1], view.lookat[2], view.distance, view.azimuth, view.elevation);
   return buf;
 }
 
-mujoco::CameraView camera_view(const mujoco::Scene& scene, std::string& camera) {
-  mujoco::CameraView view;
-  if (camera.empty())
-    camera = scene.environment().cameras.empty() ? "free" : scene.environment().cameras[0];
+core::Camera camera_view(const core::SceneView& scene, std::string& camera) {
+  core::Camera view;
+  const std::vector<std::string> cameras = scene.cameras();
+  if (camera.empty()) camera = cameras.empty() ? "free" : cameras[0];
   if (camera.rfind("lookat:", 0) == 0) {
     parse_lookat(camera, view);
   } else if (camera == "head") {
-    view.fixed_camera = scene.head_camera();
+    view.name = camera;
   } else if (camera != "free") {
-    view.fixed_camera = mj_name2id(scene.model(), mjOBJ_CAMERA, camera.c_str());
-    if (view.fixed_camera < 0) {
+    if (std::find(cameras.begin(), cameras.end(), camera) == cameras.end()) {
       std::string known = "head, free, lookat:X,Y,Z[,D[,AZ[,EL]]]";
-      for (const std::string& c : scene.environment().cameras) known += ", " + c;
+      for (const std::string& c : cameras) known += ", " + c;
       throw core::InputError("--camera", "",
                              "unknown camera '" + camera + "' (known: " + known + ")");
     }
+    view.name = camera;
   }
   return view;
 }
@@ -111,7 +109,7 @@ std::unique_ptr<Replay> load_replay(const ModelCatalog& catalog,
 }
 
 // The image size against the model's offscreen buffer (and H.264's 4:2:0 subsampling).
-void check_size(const mujoco::Scene& scene, const FrameOptions& options, bool even) {
+void check_size(const core::SceneView& scene, const FrameOptions& options, bool even) {
   const auto check = [even](const char* argument, int value, int limit) {
     if (value < 1 || value > limit) {
       throw core::InputError(argument, "",
@@ -124,8 +122,8 @@ void check_size(const mujoco::Scene& scene, const FrameOptions& options, bool ev
           std::to_string(value) + " is odd: H.264 video (yuv420p) needs an even width and height");
     }
   };
-  check("--width", options.width, scene.model()->vis.global.offwidth);
-  check("--height", options.height, scene.model()->vis.global.offheight);
+  check("--width", options.width, scene.max_width());
+  check("--height", options.height, scene.max_height());
 }
 
 // An executable `name` in a folder of $PATH (as execvp would find it); empty if none.
@@ -331,18 +329,10 @@ std::string number(double v) {
 
 namespace {
 
-// The replay's current frame through `view`, as PNG file bytes.
-std::vector<std::uint8_t> render_png(mujoco::OffscreenRenderer& renderer, Replay& replay,
-                                     const mujoco::CameraView& view) {
-  const mujoco::RgbImage image =
-      renderer.render_rgb(replay.worker().model(), replay.worker().data(), view);
-  std::vector<std::uint8_t> png;
-  const unsigned err = lodepng::encode(png, image.pixels, static_cast<unsigned>(image.width),
-                                       static_cast<unsigned>(image.height), LCT_RGB, 8);
-  if (err != 0) {
-    throw std::runtime_error(std::string("cannot encode PNG: ") + lodepng_error_text(err));
-  }
-  return png;
+// The replay's current frame through `camera`, as PNG file bytes.
+std::vector<std::uint8_t> render_png(Replay& replay, const core::Camera& camera,
+                                     const FrameOptions& options) {
+  return io::encode_png(replay.view().render(camera, options.width, options.height));
 }
 
 }  // namespace
@@ -353,23 +343,18 @@ std::vector<std::uint8_t> trial_snapshot_png(const ModelCatalog& catalog,
   if (std::isnan(time_s)) throw core::InputError("--time", "", "not a number");
   const std::unique_ptr<Replay> replay = load_replay(catalog, run_dir_and_trial);
   std::string camera = options.camera;
-  const mujoco::CameraView view = camera_view(replay->scene(), camera);
-  check_size(replay->scene(), options, false);
+  const core::Camera view = camera_view(replay->view(), camera);
+  check_size(replay->view(), options, false);
   const size_t frame = time_s < 0 ? replay->frames() - 1 : replay->frame_at(time_s);
   replay->show(frame);
-  mujoco::OffscreenRenderer renderer(replay->scene().model(), options.width, options.height);
-  return render_png(renderer, *replay, view);
+  return render_png(*replay, view, options);
 }
 
 namespace {
 
-Eigen::Vector3d body_position(const mjData* d, int body) {
-  return Eigen::Vector3d(d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2]);
-}
-
 struct FocusCandidate {
   std::string label;
-  mujoco::FrameRef frame;
+  std::string frame;  // the view's name of it
   bool palm = false;
   std::vector<Eigen::Vector3d> positions;  // per recorded frame up to the failure
 };
@@ -385,11 +370,10 @@ double moved(const FocusCandidate& c, size_t from, size_t to) {
 
 // The free camera `distance` from `target` at `azimuth` and `elevation` (degrees, MuJoCo's
 // conventions: the camera looks along (cos el cos az, cos el sin az, sin el)).
-mujoco::CameraView free_view(const Eigen::Vector3d& target, double distance, double azimuth,
-                             double elevation) {
-  mujoco::CameraView view;
-  view.fixed_camera = -1;
-  for (int i = 0; i < 3; ++i) view.lookat[i] = target[i];
+core::Camera free_view(const Eigen::Vector3d& target, double distance, double azimuth,
+                       double elevation) {
+  core::Camera view;
+  view.lookat = target;
   view.distance = distance;
   view.azimuth = std::fmod(std::fmod(azimuth, 360) + 360, 360);
   view.elevation = elevation;
@@ -400,21 +384,14 @@ mujoco::CameraView free_view(const Eigen::Vector3d& target, double distance, dou
 // the point meets no visible geom (furniture, an obstacle, the robot's body; a camera inside a
 // geom meets it at once) until within `near` of the point, where the hand and what it holds
 // are.
-bool sees_its_target(const mjModel* m, const mjData* d, const mujoco::CameraView& view,
-                     double near) {
+bool sees_its_target(const core::SceneView& scene, const core::Camera& view, double near) {
   const double az = view.azimuth * std::numbers::pi / 180;
   const double el = view.elevation * std::numbers::pi / 180;
   const Eigen::Vector3d forward(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
                                 std::sin(el));
-  const Eigen::Vector3d target(view.lookat[0], view.lookat[1], view.lookat[2]);
-  const Eigen::Vector3d eye = target - view.distance * forward;
+  const Eigen::Vector3d eye = view.lookat - view.distance * forward;
   if (eye.z() < 0.05) return false;
-  const mjtNum from[3] = {eye.x(), eye.y(), eye.z()};
-  const mjtNum along[3] = {forward.x(), forward.y(), forward.z()};
-  const mjtByte groups[mjNGROUP] = {1, 1, 1, 0, 0, 0};  // what the renderer draws by default
-  int geom = -1;
-  const double hit = mj_ray(m, d, from, along, groups, 1, -1, &geom);
-  return geom < 0 || hit < 0 || hit >= view.distance - near;
+  return scene.first_hit(eye, forward) >= view.distance - near;
 }
 
 }  // namespace
@@ -424,34 +401,30 @@ FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string&
   if (std::isnan(time_s)) throw core::InputError("--time", "", "not a number");
   FailurePictures out;
   const std::unique_ptr<Replay> replay = load_replay(catalog, run_dir_and_trial);
-  const mujoco::Scene& scene = replay->scene();
+  const core::LoadedScene& scene = replay->scene();
+  core::SceneView& view = replay->view();
   std::string camera = options.camera;
-  const mujoco::CameraView overview = camera_view(scene, camera);
-  check_size(scene, options, false);
+  const core::Camera overview = camera_view(view, camera);
+  check_size(view, options, false);
   const size_t frame = time_s < 0 ? replay->frames() - 1 : replay->frame_at(time_s);
   out.time_s = replay->time_of(frame);
 
   // Where the palms and the movable objects were at every frame up to the failure.
   std::vector<FocusCandidate> candidates;
   for (const core::HandSpec& hand : scene.robot().hands) {
-    candidates.push_back(
-        {hand.side + " hand (" + hand.palm + ")", scene.frame(hand.palm), true, {}});
+    candidates.push_back({hand.side + " hand (" + hand.palm + ")", hand.palm, true, {}});
   }
   for (const auto& [name, object] : scene.environment().objects) {
     if (object.kind != core::ObjectKind::kGraspable && object.kind != core::ObjectKind::kTool) {
       continue;
     }
-    candidates.push_back({name, scene.frame(name), false, {}});
+    candidates.push_back({name, name, false, {}});
   }
-  const mjData* d = replay->worker().data();
-  const int base_body = replay->worker().model()->jnt_bodyid[scene.chain("base").joints.at(0)];
   Eigen::Vector3d base = Eigen::Vector3d::Zero();
   for (size_t k = 0; k <= frame; ++k) {
     replay->show(k);
-    for (FocusCandidate& c : candidates) {
-      c.positions.push_back(mujoco::frame_pose(d, c.frame).position);
-    }
-    if (k == frame) base = body_position(d, base_body);
+    for (FocusCandidate& c : candidates) c.positions.push_back(view.position(c.frame));
+    if (k == frame) base = view.base_position();
   }
   // A held or handled object: it moved during the trial and is at a palm now.
   const FocusCandidate* focus = nullptr;
@@ -501,15 +474,15 @@ FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string&
   const double towards_base =
       std::atan2(base.y() - target.y(), base.x() - target.x()) * 180 / std::numbers::pi;
   constexpr double kDistance = 0.7, kNear = 0.15;
-  mujoco::CameraView close = free_view(target, kDistance, towards_base + 35, -25);
+  core::Camera close = free_view(target, kDistance, towards_base + 35, -25);
   bool found = false;
   for (const double elevation : {-25.0, -45.0, -65.0}) {
     for (const double turn : {35.0, -35.0, 70.0, -70.0, 105.0, -105.0, 140.0, -140.0, 180.0}) {
       // Judged through the view its --camera text describes, as it is drawn below.
-      mujoco::CameraView candidate;
+      core::Camera candidate;
       parse_lookat(lookat_camera_text(free_view(target, kDistance, towards_base + turn, elevation)),
                    candidate);
-      if (sees_its_target(replay->worker().model(), d, candidate, kNear)) {
+      if (sees_its_target(view, candidate, kNear)) {
         close = candidate;
         found = true;
         break;
@@ -521,9 +494,8 @@ FailurePictures failure_pictures(const ModelCatalog& catalog, const std::string&
   out.close_up_camera = lookat_camera_text(close);
   parse_lookat(out.close_up_camera, close);
 
-  mujoco::OffscreenRenderer renderer(scene.model(), options.width, options.height);
-  out.overview = render_png(renderer, *replay, overview);
-  out.close_up = render_png(renderer, *replay, close);
+  out.overview = render_png(*replay, overview, options);
+  out.close_up = render_png(*replay, close, options);
   return out;
 }
 
@@ -556,10 +528,8 @@ VideoInfo write_trial_video(const ModelCatalog& catalog, const std::string& run_
   const std::unique_ptr<Replay> replay = load_replay(catalog, run_dir_and_trial);
   VideoInfo info;
   info.camera = options.frame.camera;
-  const mujoco::CameraView view = camera_view(replay->scene(), info.camera);
-  check_size(replay->scene(), options.frame, true);
-  mujoco::OffscreenRenderer renderer(replay->scene().model(), options.frame.width,
-                                     options.frame.height);
+  const core::Camera view = camera_view(replay->view(), info.camera);
+  check_size(replay->view(), options.frame, true);
 
   const double t0 = replay->time_of(0);
   const double step = options.speed / options.fps;
@@ -606,12 +576,12 @@ VideoInfo write_trial_video(const ModelCatalog& catalog, const std::string& run_
   {
     const SigpipeBlocked blocked;
     size_t shown = replay->frames();
-    mujoco::RgbImage image;
+    core::RgbImage image;
     for (size_t k = 0; k < info.frames && written; ++k) {
       const size_t frame = replay->frame_at(t0 + static_cast<double>(k) * step);
       if (frame != shown) {
         replay->show(frame);
-        image = renderer.render_rgb(replay->worker().model(), replay->worker().data(), view);
+        image = replay->view().render(view, options.frame.width, options.frame.height);
         shown = frame;
       }
       written = encoder.write(image.pixels);

@@ -1,6 +1,6 @@
 // Pictures of a recorded trial (harness/replay/replay.h), without re-planning: a PNG snapshot in
 // memory (for reports) and an H.264 MP4 of the whole trial, encoded by ffmpeg (the Debian
-// package) from raw RGB frames rendered through OSMesa.
+// package) from raw RGB frames drawn by the scene's backend (core/scene_view.h).
 #pragma once
 
 #include <cstddef>
@@ -11,8 +11,7 @@
 
 #include "harness/report/failure_pictures.h"
 #include "harness/scenario/model_catalog.h"
-#include "taskmatrix/mujoco/offscreen_renderer.h"
-#include "taskmatrix/mujoco/scene.h"
+#include "taskmatrix/core/scene_view.h"
 
 namespace taskmatrix::harness {
 
@@ -24,10 +23,10 @@ namespace taskmatrix::harness {
 // above), anything else a camera of the model by name. Sets `camera` to the name used (for
 // "": the camera chosen). Throws core::InputError("--camera") naming the known cameras for an
 // unknown one, and for a malformed lookat.
-mujoco::CameraView camera_view(const mujoco::Scene& scene, std::string& camera);
+core::Camera camera_view(const core::SceneView& view, std::string& camera);
 
-// "lookat:X,Y,Z,D,AZ,EL" for a free camera view, as camera_view reads it.
-std::string lookat_camera_text(const mujoco::CameraView& view);
+// "lookat:X,Y,Z,D,AZ,EL" for a free camera, as camera_view reads it.
+std::string lookat_camera_text(const core::Camera& camera);
 
 struct FrameOptions {
   std::string camera;  // "" = the environment's first camera (as `render` does), "head", "free"

@@ -203,8 +203,8 @@ std::string summary_markdown(const nlohmann::json& s, std::span<const TrialField
         "% (95% Wilson interval " +
         format_number("%.1f", 100.0 * all["success_ci95"][0].get<double>()) + "%.." +
         format_number("%.1f", 100.0 * all["success_ci95"][1].get<double>()) +
-        "%). Planning time per trial: median " + fmt(all["planning_time_s"]["median"], "%.3f") +
-        " s, p90 " + fmt(all["planning_time_s"]["p90"], "%.3f") + " s.\n\n";
+        "%). Planning time per trial: median " + fmt(all[kPlanningTimeField]["median"], "%.3f") +
+        " s, p90 " + fmt(all[kPlanningTimeField]["p90"], "%.3f") + " s.\n\n";
   // The groups' columns: identity, success, the table's summary.md fields, failures.
   md += "| scenario | robot | environment | planner | success | 95% CI |";
   std::string rule = "|---|---|---|---|---|---|";

@@ -143,14 +143,6 @@ std::vector<std::string> clock_bounds_hit(const nlohmann::json& trial) {
   return hit;
 }
 
-const std::vector<std::string>& timing_fields() {
-  static const std::vector<std::string> fields = {
-      "planning_time_s", "simplification_time_s", "ik_time_s",   "trial_wall_s", "executive_wall_s",
-      "stepping_wall_s", "monitoring_wall_s",     "wall_time_s", "overhead_s",   "cpu_time_s",
-      "peak_memory_mb"};
-  return fields;
-}
-
 nlohmann::json without_timing(nlohmann::json trial) {
   for (const std::string& f : timing_fields()) trial.erase(f);
   if (trial.contains("plans")) {

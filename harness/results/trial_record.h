@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/results/json_input.h"
+#include "harness/results/trial_schema.h"
 #include "harness/results/trial_result.h"
 #include "harness/scenario/trial_matrix.h"
 
@@ -32,10 +33,9 @@ nlohmann::json failed_trial_json(const RunPlan& plan, const TrialSpec& spec,
 // (records written before that field existed are judged by their plans and status).
 std::vector<std::string> clock_bounds_hit(const nlohmann::json& trial);
 
-// The fields that depend on the machine's speed or load (times, memory); every other field
-// is the same for the same trial id on the same build, whatever the number of jobs.
-const std::vector<std::string>& timing_fields();
-// `trial` without timing_fields() (also inside its plans), for comparisons.
+// `trial` without the fields that depend on the machine's speed or load (trial_schema.h's
+// timing_fields(), also inside its plans), for comparisons: every other field is the same for
+// the same trial id on the same build, whatever the number of jobs.
 nlohmann::json without_timing(nlohmann::json trial);
 
 // Checks the fields of a trial record that readers use (identity strings, success, seeds,

@@ -91,6 +91,17 @@ std::string shown_in(const FieldDisplay& d) {
 
 }  // namespace
 
+const std::vector<std::string>& timing_fields() {
+  static const std::vector<std::string> fields = [] {
+    std::vector<std::string> out;
+    for (const TrialField& f : kTrialFields) {
+      if (f.timing) out.emplace_back(f.name);
+    }
+    return out;
+  }();
+  return fields;
+}
+
 std::vector<std::string> exact_work_fields() {
   std::vector<std::string> out;
   for (const TrialField& f : kTrialFields) {

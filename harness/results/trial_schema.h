@@ -243,6 +243,25 @@ inline constexpr std::array kTrialFields = {
                OmplType::kNone, false, "wall_time_s minus executive_wall_s"},
 };
 
+// Whether the table has a field of this name.
+constexpr bool has_trial_field(std::string_view name) {
+  for (const TrialField& f : kTrialFields) {
+    if (f.name == name) return true;
+  }
+  return false;
+}
+
+// The fields reports single out by name: the time the paired verdicts compare (compare's
+// planning-time ratio, the planners' median time column and the plan-time budget) and the work
+// count the planners' verdicts quote as a ratio. Checked against the table when compiled.
+inline constexpr const char* kPlanningTimeField = "planning_time_s";
+inline constexpr const char* kCollisionChecksField = "collision_checks";
+static_assert(has_trial_field(kPlanningTimeField) && has_trial_field(kCollisionChecksField));
+
+// The timings (fields measured on the clock), in table order: what compare and the
+// reproducibility checks leave out.
+const std::vector<std::string>& timing_fields();
+
 // The exact work counts (compare's --exact-work fields), in table order.
 std::vector<std::string> exact_work_fields();
 // "REAL", "INTEGER", "BOOLEAN", "ENUM".

@@ -10,15 +10,12 @@
 #include "harness/results/trial_record.h"
 #include "harness/run/run_job.h"
 #include "taskmatrix/core/input_error.h"
-#include "taskmatrix/mujoco/mujoco_backend.h"
-#include "taskmatrix/mujoco/robot_check.h"
-#include "taskmatrix/mujoco/scene.h"
 
 namespace taskmatrix::harness {
 
 namespace {
 
-using mujoco::RobotFinding;
+using core::RobotFinding;
 
 // One table cell: no line breaks, no column separators, at most `limit` characters.
 std::string cell(std::string text, size_t limit = 400) {
@@ -48,12 +45,11 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
       << "\n\n| check | result | finding |\n|---|---|---|\n";
 
   std::vector<RobotFinding> findings;
-  std::vector<std::shared_ptr<const mujoco::Scene>> scenes;
-  std::shared_ptr<const mujoco::Scene> home;
+  std::vector<std::shared_ptr<const core::LoadedScene>> scenes;
+  std::shared_ptr<const core::LoadedScene> home;
   for (const std::string& env : catalog.environments()) {
     try {
-      // The robot checks are the MuJoCo backend's (its kinematics).
-      scenes.push_back(mujoco::scene_of(*backend().load(robot_dir, catalog.environment_dir(env))));
+      scenes.push_back(backend().load(robot_dir, catalog.environment_dir(env)));
     } catch (const core::InputError& e) {
       findings.push_back(
           {RobotFinding::Level::kError, "load", std::string("in ") + env + ": " + e.what()});
@@ -66,14 +62,13 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
                         "compiles with every environment (" + std::to_string(scenes.size()) +
                             "); profile keys and names, joint limits, postures, canned motions "
                             "and the head camera convention hold"});
-    for (RobotFinding& f : mujoco::check_robot_kinematics(*home)) findings.push_back(std::move(f));
-    for (RobotFinding& f : mujoco::check_reach_envelope(scenes)) findings.push_back(std::move(f));
+    for (RobotFinding& f : backend().check_robot(*home, scenes)) findings.push_back(std::move(f));
   }
   int errors = 0, warnings = 0;
   for (const RobotFinding& f : findings) {
     errors += f.level == RobotFinding::Level::kError;
     warnings += f.level == RobotFinding::Level::kWarning;
-    out << "| " << f.check << " | " << mujoco::to_string(f.level) << " | " << cell(f.message)
+    out << "| " << f.check << " | " << core::to_string(f.level) << " | " << cell(f.message)
         << " |\n";
   }
   out << "\nLint: " << errors << (errors == 1 ? " error, " : " errors, ") << warnings

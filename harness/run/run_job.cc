@@ -412,6 +412,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     WorkerPoolOptions pool;
     pool.jobs = options.jobs;
     pool.stop = &g_stop;
+    pool.in_worker = [] { backend().on_fatal_error(crash_worker); };
     run_in_workers(pending.size(), pool, work, wall_limit, on_done);
     result.interrupted = g_stop != 0;
   }

@@ -8,8 +8,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <mujoco/mujoco.h>
-
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -36,24 +34,17 @@ void write_all(int fd, const char* data, size_t size) {
   }
 }
 
-// MuJoCo's fatal errors end the worker with a crash report instead of exit(1).
-void worker_mju_error(const char* message) {
-  const std::string payload = std::string("!crash MuJoCo error: ") + message;
-  write_all(g_result_fd, payload.data(), payload.size());
-  _exit(70);
-}
-
-[[noreturn]] void run_child(int fd, size_t i, pid_t supervisor,
+[[noreturn]] void run_child(int fd, size_t i, pid_t supervisor, const WorkerPoolOptions& options,
                             const std::function<std::string(size_t)>& work) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (getppid() != supervisor) _exit(72);  // the supervisor died before prctl took effect
   std::signal(SIGINT, SIG_IGN);
   std::signal(SIGPIPE, SIG_DFL);
   g_result_fd = fd;
-  mju_user_error = worker_mju_error;
   std::string payload;
   int code = 0;
   try {
+    if (options.in_worker) options.in_worker();
     payload = work(i);
   } catch (const std::exception& e) {
     payload = std::string("!crash exception: ") + e.what();
@@ -113,6 +104,14 @@ std::string signal_text(int sig) {
 
 }  // namespace
 
+void crash_worker(const char* reason) {
+  // Outside a worker (no result pipe), the reason goes to stderr.
+  const std::string payload =
+      g_result_fd >= 0 ? std::string("!crash ") + reason : std::string(reason) + "\n";
+  write_all(g_result_fd >= 0 ? g_result_fd : 2, payload.data(), payload.size());
+  _exit(70);
+}
+
 size_t run_in_workers(size_t count, const WorkerPoolOptions& options,
                       const std::function<std::string(size_t)>& work,
                       const std::function<double(size_t)>& wall_limit_s,
@@ -147,7 +146,7 @@ size_t run_in_workers(size_t count, const WorkerPoolOptions& options,
       }
       if (pid == 0) {
         close(fds[0]);
-        run_child(fds[1], next, supervisor, work);
+        run_child(fds[1], next, supervisor, options, work);
       }
       close(fds[1]);
       const auto limit = std::chrono::duration_cast<Clock::duration>(

@@ -2,7 +2,7 @@
 // loaded the models, so a worker starts in well under a millisecond of work and every worker
 // starts from the same state: results do not depend on how many run at once or in which
 // order). At most `jobs` run at a time; each has a wall-clock limit after which it is killed
-// (SIGKILL). A worker that dies (signal, exit without a result, mju_error) or is killed is
+// (SIGKILL). A worker that dies (signal, exit without a result, crash_worker) or is killed is
 // reported with status "crash" or "timeout" and the others go on.
 //
 // Workers ignore SIGINT (the supervisor decides what an interrupt means) and die with the
@@ -32,7 +32,13 @@ struct WorkerPoolOptions {
   // Checked between events; when it becomes non-zero, no new worker starts, running workers
   // are killed and their outcomes are not reported.
   const volatile std::sig_atomic_t* stop = nullptr;
+  // Runs first in each worker (a backend routing its fatal errors to crash_worker).
+  std::function<void()> in_worker;
 };
+
+// In a worker: reports `reason` as its crash ("crash" status, the reason as given) and ends
+// it. For hooks that cannot return, as a simulator's fatal-error handler.
+[[noreturn]] void crash_worker(const char* reason);
 
 // Runs work(i) for i in [0, count) in workers. `work` runs in the child and returns the
 // payload; an exception there is reported as a crash with its message. `wall_limit_s(i)` is

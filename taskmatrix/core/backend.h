@@ -15,6 +15,7 @@
 #include "taskmatrix/core/obstacle_layout.h"
 #include "taskmatrix/core/perceptual_model.h"
 #include "taskmatrix/core/robot_profile.h"
+#include "taskmatrix/core/scene_view.h"
 #include "taskmatrix/core/skillset.h"
 #include "taskmatrix/core/task_variation.h"
 
@@ -73,7 +74,30 @@ class LoadedScene {
   // for an unknown execution mode.
   virtual std::unique_ptr<TrialWorld> make_trial_world(const TrialLayout& layout,
                                                        const TrialWorldOptions& options) const = 0;
+  // A view for pictures of this scene with `layout` applied, showing its start state. Throws
+  // as start_contacts, and std::runtime_error when the backend cannot draw here.
+  virtual std::unique_ptr<SceneView> make_view(const TrialLayout& layout) const = 0;
 };
+
+// One finding of `taskmatrix check-robot`: what the loader cannot decide from names alone.
+struct RobotFinding {
+  enum class Level { kOk, kWarning, kError };
+  Level level = Level::kOk;
+  std::string check;    // what was checked: "chains", "mirror signs", "palm axes", ...
+  std::string message;  // what was found, with the profile key at fault for an error
+};
+// "ok", "warning" or "ERROR".
+inline const char* to_string(RobotFinding::Level level) {
+  switch (level) {
+    case RobotFinding::Level::kOk:
+      return "ok";
+    case RobotFinding::Level::kWarning:
+      return "warning";
+    case RobotFinding::Level::kError:
+      return "ERROR";
+  }
+  return "?";
+}
 
 // The factory: what the harness calls to reach a backend.
 class Backend {
@@ -86,6 +110,17 @@ class Backend {
   virtual std::shared_ptr<const LoadedScene> load(
       const std::filesystem::path& robot_dir,
       const std::filesystem::path& environment_dir) const = 0;
+  // Routes the simulator's fatal errors (those it cannot return from, as MuJoCo's mju_error) to
+  // `handler`, for the whole process; the message names the simulator. `handler` must not
+  // return (a trial worker reports the error as its crash and ends).
+  virtual void on_fatal_error(void (*handler)(const char* message)) const = 0;
+  // What a robot must satisfy for the task programs to work, checked on its kinematics
+  // (models/README.md, "What the programs need of a robot"): `home` is the robot loaded into
+  // one environment, `everywhere` into each environment (for the reach envelope against every
+  // surface). Both were loaded by this backend; throws std::invalid_argument otherwise.
+  virtual std::vector<RobotFinding> check_robot(
+      const LoadedScene& home,
+      const std::vector<std::shared_ptr<const LoadedScene>>& everywhere) const = 0;
 };
 
 }  // namespace taskmatrix::core

@@ -4,6 +4,8 @@
 
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/head_sensor.h"
+#include "taskmatrix/mujoco/mujoco_view.h"
+#include "taskmatrix/mujoco/robot_check.h"
 
 namespace taskmatrix::mujoco {
 
@@ -97,6 +99,11 @@ std::unique_ptr<core::TrialWorld> MujocoLoadedScene::make_trial_world(
   return std::make_unique<MujocoTrialWorld>(scene_, layout, options);
 }
 
+std::unique_ptr<core::SceneView> MujocoLoadedScene::make_view(
+    const core::TrialLayout& layout) const {
+  return std::make_unique<MujocoView>(scene_, layout);
+}
+
 std::string MujocoBackend::version() const {
   const int v = mj_version();
   return std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
@@ -105,6 +112,31 @@ std::string MujocoBackend::version() const {
 std::shared_ptr<const core::LoadedScene> MujocoBackend::load(
     const std::filesystem::path& robot_dir, const std::filesystem::path& environment_dir) const {
   return std::make_shared<MujocoLoadedScene>(Scene::load(robot_dir, environment_dir));
+}
+
+namespace {
+
+void (*g_fatal_error_handler)(const char*) = nullptr;
+
+void report_mujoco_error(const char* message) {
+  g_fatal_error_handler((std::string("MuJoCo error: ") + message).c_str());
+}
+
+}  // namespace
+
+void MujocoBackend::on_fatal_error(void (*handler)(const char* message)) const {
+  g_fatal_error_handler = handler;
+  mju_user_error = handler ? report_mujoco_error : nullptr;
+}
+
+std::vector<core::RobotFinding> MujocoBackend::check_robot(
+    const core::LoadedScene& home,
+    const std::vector<std::shared_ptr<const core::LoadedScene>>& everywhere) const {
+  std::vector<std::shared_ptr<const Scene>> scenes;
+  for (const auto& loaded : everywhere) scenes.push_back(scene_of(*loaded));
+  std::vector<core::RobotFinding> findings = check_robot_kinematics(*scene_of(home));
+  for (core::RobotFinding& f : check_reach_envelope(scenes)) findings.push_back(std::move(f));
+  return findings;
 }
 
 const std::shared_ptr<const Scene>& scene_of(const core::LoadedScene& scene) {

@@ -1,5 +1,6 @@
 // The MuJoCo backend behind the harness's factory interface (core/backend.h): a LoadedScene is
-// a compiled Scene, a TrialWorld a MujocoSkillset on its own worker copy of the model.
+// a compiled Scene, a TrialWorld a MujocoSkillset on its own worker copy of the model, a
+// SceneView a MujocoView (mujoco_view.h).
 #pragma once
 
 #include <memory>
@@ -40,6 +41,7 @@ class MujocoLoadedScene final : public core::LoadedScene {
   std::vector<core::StartContact> start_contacts(const core::TrialLayout& layout) const override;
   std::unique_ptr<core::TrialWorld> make_trial_world(
       const core::TrialLayout& layout, const core::TrialWorldOptions& options) const override;
+  std::unique_ptr<core::SceneView> make_view(const core::TrialLayout& layout) const override;
   const std::shared_ptr<const Scene>& scene() const { return scene_; }
 
  private:
@@ -57,6 +59,10 @@ class MujocoBackend final : public core::Backend {
   std::shared_ptr<const core::LoadedScene> load(
       const std::filesystem::path& robot_dir,
       const std::filesystem::path& environment_dir) const override;
+  void on_fatal_error(void (*handler)(const char* message)) const override;
+  std::vector<core::RobotFinding> check_robot(
+      const core::LoadedScene& home,
+      const std::vector<std::shared_ptr<const core::LoadedScene>>& everywhere) const override;
 };
 
 // The MuJoCo Scene behind a scene this backend loaded. Throws std::invalid_argument for a

@@ -1,7 +1,6 @@
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 
 #include <GL/osmesa.h>
-#include <lodepng.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +8,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "taskmatrix/io/text_file.h"
 
 namespace taskmatrix::mujoco {
 
@@ -116,38 +114,6 @@ DepthImage OffscreenRenderer::render_depth(const mjModel* model, mjData* data,
     }
   }
   return image;
-}
-
-void write_png(const std::filesystem::path& file, const RgbImage& image) {
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  std::vector<unsigned char> png;
-  const unsigned err = lodepng::encode(png, image.pixels, image.width, image.height, LCT_RGB, 8);
-  if (err)
-    throw std::runtime_error(file.string() + ": cannot encode PNG: " + lodepng_error_text(err));
-  io::write_file_atomically(file, {reinterpret_cast<const char*>(png.data()), png.size()});
-}
-
-void write_depth_png(const std::filesystem::path& file, const DepthImage& image) {
-  float lo = std::numeric_limits<float>::infinity(), hi = 0;
-  for (float v : image.metres) {
-    if (std::isfinite(v)) {
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-  }
-  std::vector<unsigned char> grey(image.metres.size(), 0);
-  for (size_t i = 0; i < grey.size(); ++i) {
-    const float v = image.metres[i];
-    if (!std::isfinite(v)) continue;
-    const float t = hi > lo ? (v - lo) / (hi - lo) : 0.0f;
-    grey[i] = static_cast<unsigned char>(std::lround(255.0f - 215.0f * t));  // near 255, far 40
-  }
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  std::vector<unsigned char> png;
-  const unsigned err = lodepng::encode(png, grey, image.width, image.height, LCT_GREY, 8);
-  if (err)
-    throw std::runtime_error(file.string() + ": cannot encode PNG: " + lodepng_error_text(err));
-  io::write_file_atomically(file, {reinterpret_cast<const char*>(png.data()), png.size()});
 }
 
 }  // namespace taskmatrix::mujoco

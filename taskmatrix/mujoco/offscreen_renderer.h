@@ -4,23 +4,17 @@
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <memory>
 #include <vector>
 
 #include <mujoco/mujoco.h>
 
+#include "taskmatrix/core/scene_view.h"
+
 namespace taskmatrix::mujoco {
 
-struct RgbImage {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> pixels;  // row-major, top row first, 3 bytes per pixel
-};
-
-struct DepthImage {
-  int width = 0, height = 0;
-  std::vector<float> metres;  // row-major, top row first; +inf where nothing was hit
-};
+using core::DepthImage;
+using core::RgbImage;
 
 // Which camera to look through. A free camera looks at `lookat` from `distance` metres,
 // with azimuth and elevation in degrees (MuJoCo's conventions).
@@ -55,11 +49,5 @@ class OffscreenRenderer {
   std::unique_ptr<Impl> impl_;
   int width_, height_;
 };
-
-// PNG writers (lodepng). Depth is written as 8-bit grey, near bright, far dark, scaled to
-// [near, far] of the finite pixels; nothing hit is black. Throw std::runtime_error on I/O
-// failure.
-void write_png(const std::filesystem::path& file, const RgbImage& image);
-void write_depth_png(const std::filesystem::path& file, const DepthImage& image);
 
 }  // namespace taskmatrix::mujoco

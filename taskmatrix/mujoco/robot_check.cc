@@ -13,18 +13,6 @@
 
 namespace taskmatrix::mujoco {
 
-const char* to_string(RobotFinding::Level level) {
-  switch (level) {
-    case RobotFinding::Level::kOk:
-      return "ok";
-    case RobotFinding::Level::kWarning:
-      return "warning";
-    case RobotFinding::Level::kError:
-      return "ERROR";
-  }
-  return "?";
-}
-
 namespace {
 
 using Vec3 = Eigen::Vector3d;

@@ -8,17 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "taskmatrix/core/backend.h"
 #include "taskmatrix/mujoco/scene.h"
 
 namespace taskmatrix::mujoco {
 
-struct RobotFinding {
-  enum class Level { kOk, kWarning, kError };
-  Level level = Level::kOk;
-  std::string check;    // what was checked: "chains", "mirror signs", "palm axes", ...
-  std::string message;  // what was found, with the profile key at fault for an error
-};
-const char* to_string(RobotFinding::Level level);
+using core::RobotFinding;
 
 // The robot of `scene`, at its start pose in the scene's environment with the base turned to
 // face +x (positions below are in that base frame):

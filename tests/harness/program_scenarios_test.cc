@@ -11,6 +11,7 @@
 #include "harness/run/trial.h"
 #include "harness/scenario/scenario.h"
 #include "taskmatrix/core/state_machine.h"
+#include "taskmatrix/io/png.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"
@@ -50,7 +51,7 @@ TrialObserver renders(const std::string& label) {
     view.distance = 1.9;
     view.azimuth = 150;
     view.elevation = -30;
-    mujoco::write_png(
+    io::write_png(
         std::string(dir) + "/" + label + "_" + moment + ".png",
         renderer.render_rgb(skills.model(), const_cast<mjData*>(skills.sim_data()), view));
   };

@@ -24,6 +24,7 @@
 #include "harness/run/run_job.h"
 #include "harness/run/trial.h"
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/mujoco/mujoco_view.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"
 
@@ -442,17 +443,17 @@ TEST_F(Runner, RecordedTrajectoriesReplayTheTrial) {
   replay.show(replay.frames() - 1);
   EXPECT_NEAR(replay.time_of(replay.frames() - 1), r.sim_time_s, 0.05);
   // The replayed end state is the trial's own (float precision), with every flake gone.
+  const mujoco::WorkerScene& worker =
+      dynamic_cast<const mujoco::MujocoView&>(replay.view()).worker();
   for (size_t i = 0; i < final_qpos.size(); ++i) {
-    EXPECT_NEAR(replay.worker().data()->qpos[i], final_qpos[i], 1e-3) << "qpos " << i;
+    EXPECT_NEAR(worker.data()->qpos[i], final_qpos[i], 1e-3) << "qpos " << i;
   }
   for (const std::string& flake : r.removed_debris) {
-    const int body = mj_name2id(replay.worker().model(), mjOBJ_BODY, flake.c_str());
-    EXPECT_LT(replay.worker().data()->xpos[3 * body + 2], -5.0) << flake;
+    EXPECT_LT(replay.view().position(flake).z(), -5.0) << flake;
   }
   replay.show(0);
   for (const std::string& flake : r.removed_debris) {
-    const int body = mj_name2id(replay.worker().model(), mjOBJ_BODY, flake.c_str());
-    EXPECT_GT(replay.worker().data()->xpos[3 * body + 2], 0.5) << flake << " at the start";
+    EXPECT_GT(replay.view().position(flake).z(), 0.5) << flake << " at the start";
   }
   // A truncated file is refused with its name.
   std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);

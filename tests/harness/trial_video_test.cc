@@ -22,6 +22,7 @@
 #include "harness/results/trial_record.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/mujoco_view.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "tests/test_support.h"
 
@@ -245,25 +246,25 @@ TEST(FailureCloseUp, TheCameraIsInNothingAndSeesItsFocus) {
   Replay replay(test::catalog(), read_trajectory_file(trajectory_of(trial)));
   replay.show(replay.frames() - 1);
   std::string camera = p.close_up_camera;
-  const mujoco::CameraView view = camera_view(replay.scene(), camera);
+  const core::Camera view = camera_view(replay.view(), camera);
   const double az = view.azimuth * std::numbers::pi / 180;
   const double el = view.elevation * std::numbers::pi / 180;
-  const Eigen::Vector3d target(view.lookat[0], view.lookat[1], view.lookat[2]);
   const Eigen::Vector3d eye =
-      target - view.distance * Eigen::Vector3d(std::cos(el) * std::cos(az),
-                                               std::cos(el) * std::sin(az), std::sin(el));
+      view.lookat - view.distance * Eigen::Vector3d(std::cos(el) * std::cos(az),
+                                                    std::cos(el) * std::sin(az), std::sin(el));
   // Not inside the bounding box of any geom drawn (the counter's slab among them).
-  const mjModel* m = replay.worker().model();
+  const mujoco::WorkerScene& worker =
+      dynamic_cast<const mujoco::MujocoView&>(replay.view()).worker();
+  const mjModel* m = worker.model();
   for (int g = 0; g < m->ngeom; ++g) {
     if (m->geom_group[g] > 2 || m->geom_type[g] == mjGEOM_PLANE) continue;
-    const Eigen::AlignedBox3d box = mujoco::geom_box(m, replay.worker().data(), g);
+    const Eigen::AlignedBox3d box = mujoco::geom_box(m, worker.data(), g);
     EXPECT_FALSE(box.contains(eye))
         << p.close_up_camera << " is inside geom " << mj_id2name(m, mjOBJ_GEOM, g);
   }
   EXPECT_GT(eye.z(), 0.05);
   // Its centre pixel sees the palm: nothing nearer than 15 cm short of it.
-  mujoco::OffscreenRenderer renderer(m, 64, 48);
-  const mujoco::DepthImage depth = renderer.render_depth(m, replay.worker().data(), view);
+  const core::DepthImage depth = replay.view().render_depth(view, 64, 48);
   const float centre = depth.metres[24 * 64 + 32];
   EXPECT_GT(centre, view.distance - 0.15) << p.close_up_camera;
   std::filesystem::remove_all(dir);

@@ -13,6 +13,7 @@
 #include "harness/scenario/scenario.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
+#include "taskmatrix/mujoco/mujoco_view.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"
 
@@ -138,10 +139,10 @@ TEST_F(Variations, EveryDrawnValueIsRecordedTheSameSeedGivesTheSameAndReplaysSho
                   read_trajectory_file(trajectory_of((dir_ / "run").string() + ":" +
                                                      t["trial_id"].get<std::string>())));
     replay.show(0);
-    const int table = mj_name2id(replay.worker().model(), mjOBJ_BODY, "table");
-    EXPECT_NEAR(
-        mujoco::surface_box(replay.worker().model(), replay.worker().data(), table).max().z(), h,
-        1e-9);
+    const mujoco::WorkerScene& worker =
+        dynamic_cast<const mujoco::MujocoView&>(replay.view()).worker();
+    const int table = mj_name2id(worker.model(), mjOBJ_BODY, "table");
+    EXPECT_NEAR(mujoco::surface_box(worker.model(), worker.data(), table).max().z(), h, 1e-9);
   }
 }
 

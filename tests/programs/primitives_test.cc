@@ -13,6 +13,7 @@
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
+#include "taskmatrix/io/png.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
 #include "tests/test_support.h"
 
@@ -81,7 +82,7 @@ class PrimitivesTest : public ::testing::TestWithParam<test::RobotEnv> {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     std::string name = std::string(info->name());
     std::replace(name.begin(), name.end(), '/', '_');
-    mujoco::write_png(
+    io::write_png(
         std::string(dir) + "/" + name + "_" + label + ".png",
         renderer.render_rgb(skills_->model(), const_cast<mjData*>(skills_->sim_data()), view));
   }
