@@ -138,11 +138,16 @@ core::DepthScan MujocoSkillset::do_scan_depth() {
   return scan;
 }
 
-void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
-  require_no_query("apply_layout");
+void MujocoSkillset::apply_obstacles(const core::ObstacleLayout& layout) {
+  contact_pass_geoms_.clear();
   worker_.apply_layout(layout);
   belief_.set_active(static_cast<int>(layout.obstacles.size()));
   mj_forward(worker_.model(), worker_.data());
+}
+
+void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
+  require_no_query("apply_layout");
+  apply_obstacles(layout);
   if (execution_ == ExecutionMode::kKinematic) settle_free_objects();
 }
 
@@ -150,7 +155,8 @@ void MujocoSkillset::apply_layout(const core::TrialLayout& layout) {
   require_no_query("apply_layout");
   worker_.apply_variation(layout.variation);
   world_.note_debris_places(worker_.model());  // where the variation put them
-  apply_layout(layout.obstacles);
+  // No settle here: reset() starts from the start state again and settles once.
+  apply_obstacles(layout.obstacles);
   reset();
 }
 
@@ -176,6 +182,7 @@ void MujocoSkillset::reset() {
   have_accel_ = false;
   pruning_.wake_all();
   held_pairs_current_ = false;
+  contact_pass_geoms_.clear();
   worker_.reset_to_start();
   belief_.forget();
   held_.clear();
@@ -290,6 +297,16 @@ core::Pose MujocoSkillset::do_frame_pose_at(const std::vector<std::string>& chai
                                             const std::string& frame) {
   const std::vector<int> joints = joints_of(chain_names);
   const mjModel* m = worker_.model();
+  BodyFrame resolved;
+  try {
+    resolved = resolve_frame(*scene_, worker_.data(), frame);
+  } catch (const std::out_of_range&) {
+    throw std::invalid_argument("no frame or object '" + frame + "'");
+  }
+  // Without held objects (which follow their holders), the bodies between the world and the
+  // frame's body alone: the same numbers as the whole model's kinematics, bit for bit.
+  core::Pose pose;
+  if (held_.empty() && path_frame_pose(joints, values, resolved, pose)) return pose;
   mjData* q = query_.get();
   sync_query();
   for (size_t i = 0; i < joints.size(); ++i) q->qpos[servo_.joint(joints[i]).qpos_adr] = values[i];
@@ -298,11 +315,46 @@ core::Pose MujocoSkillset::do_frame_pose_at(const std::vector<std::string>& chai
     place_attachments(m, q, held_.list());
     mj_kinematics(m, q);
   }
-  try {
-    return mujoco::frame_pose(q, resolve_frame(*scene_, q, frame));
-  } catch (const std::out_of_range&) {
-    throw std::invalid_argument("no frame or object '" + frame + "'");
+  return mujoco::frame_pose(q, resolve_frame(*scene_, q, frame));
+}
+
+bool MujocoSkillset::path_frame_pose(const std::vector<int>& joints,
+                                     const std::vector<double>& values, const BodyFrame& frame,
+                                     core::Pose& out) {
+  const mjModel* m = worker_.model();
+  path_bodies_.clear();
+  for (int b = frame.body; b > 0; b = m->body_parentid[b]) {
+    if (m->body_mocapid[b] >= 0) return false;
+    for (int k = 0; k < m->body_jntnum[b]; ++k) {
+      const int type = m->jnt_type[m->body_jntadr[b] + k];
+      if (type != mjJNT_HINGE && type != mjJNT_SLIDE) return false;
+    }
+    path_bodies_.push_back(b);
   }
+  const mjData* sim = worker_.data();
+  path_qpos_.assign(sim->qpos, sim->qpos + m->nq);
+  for (size_t i = 0; i < joints.size(); ++i) {
+    path_qpos_[static_cast<size_t>(servo_.joint(joints[i]).qpos_adr)] = values[i];
+  }
+  mjtNum pos[3] = {0, 0, 0}, quat[4] = {1, 0, 0, 0}, mat[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  mju_copy3(pos, sim->xpos);  // the world body's
+  mju_copy4(quat, sim->xquat);
+  mju_copy(mat, sim->xmat, 9);
+  for (auto it = path_bodies_.rbegin(); it != path_bodies_.rend(); ++it) {
+    mjtNum p[3], q[4], r[9];
+    body_pose_from_parent(m, path_qpos_.data(), *it, pos, quat, mat, p, q, r);
+    mju_copy3(pos, p);
+    mju_copy4(quat, q);
+    mju_copy(mat, r, 9);
+  }
+  core::Pose body;
+  body.position = Eigen::Vector3d(pos[0], pos[1], pos[2]);
+  Eigen::Matrix3d rotation;
+  rotation << mat[0], mat[1], mat[2], mat[3], mat[4], mat[5], mat[6], mat[7], mat[8];
+  body.orientation = Eigen::Quaterniond(rotation).normalized();
+  out.position = body.position + body.orientation * frame.offset.position;
+  out.orientation = (body.orientation * frame.offset.orientation).normalized();
+  return true;
 }
 
 core::IkResult MujocoSkillset::do_solve_ik(const std::vector<std::string>& chain_names,
@@ -617,14 +669,64 @@ void MujocoSkillset::find_robot_contacts() {
     }
     held_pairs_current_ = true;
   }
+  // Which geoms changed pose or collision bits since the last pass (all, with nothing cached).
+  const int ngeom = m->ngeom;
+  const bool cached = contact_pass_geoms_.size() == static_cast<size_t>(ngeom);
+  contact_pass_geoms_.resize(static_cast<size_t>(ngeom));
+  changed_geoms_.clear();
+  for (int g = 0; g < ngeom; ++g) {
+    GeomSnapshot now;
+    std::copy(d->geom_xpos + 3 * g, d->geom_xpos + 3 * g + 3, now.pose.begin());
+    std::copy(d->geom_xmat + 9 * g, d->geom_xmat + 9 * g + 9, now.pose.begin() + 3);
+    now.contype = m->geom_contype[g];
+    now.conaffinity = m->geom_conaffinity[g];
+    GeomSnapshot& before = contact_pass_geoms_[static_cast<size_t>(g)];
+    if (!cached || !(now == before)) changed_geoms_.push_back(g);
+    before = now;
+  }
+  const std::vector<GeomPair>& robot_pairs = scene_->robot_geom_pairs();
+  if (pairs_of_geom_.size() != static_cast<size_t>(ngeom)) {
+    pairs_of_geom_.assign(static_cast<size_t>(ngeom), {});
+    for (size_t k = 0; k < robot_pairs.size(); ++k) {
+      pairs_of_geom_[static_cast<size_t>(robot_pairs[k].g1)].push_back(static_cast<std::uint32_t>(k));
+      pairs_of_geom_[static_cast<size_t>(robot_pairs[k].g2)].push_back(static_cast<std::uint32_t>(k));
+    }
+  }
+  if (!cached) {
+    robot_pair_contacts_.assign(robot_pairs.size(), {});
+    pairs_with_contacts_.clear();
+    pair_pass_.assign(robot_pairs.size(), 0);
+  }
+  // The pairs with a changed geom are tested again; every other pair finds what it found.
+  ++contact_pass_;
+  mjContact found[mjMAXCONPAIR];
+  for (const int g : changed_geoms_) {
+    for (const std::uint32_t k : pairs_of_geom_[static_cast<size_t>(g)]) {
+      if (pair_pass_[k] == contact_pass_) continue;
+      pair_pass_[k] = contact_pass_;
+      const GeomPair& p = robot_pairs[k];
+      const int n = collide_geoms(m, d, p, p.margin, found);
+      std::vector<mjContact>& last = robot_pair_contacts_[k];
+      if (n == 0 && last.empty()) continue;
+      last.assign(found, found + n);
+      const auto at = std::lower_bound(pairs_with_contacts_.begin(), pairs_with_contacts_.end(), k);
+      const bool listed = at != pairs_with_contacts_.end() && *at == k;
+      if (n > 0 && !listed) pairs_with_contacts_.insert(at, k);
+      if (n == 0 && listed) pairs_with_contacts_.erase(at);
+    }
+  }
+  // In the order of the scene's pairs, then the held objects' pairs.
   d->ncon = 0;
-  auto add = [&](const GeomPair& p) {
-    mjContact found[mjMAXCONPAIR];
-    const int n = collide_geoms(m, d, p, p.margin, found);
-    for (int i = 0; i < n && d->ncon < m->nconmax; ++i) d->contact[d->ncon++] = found[i];
+  auto append = [&](const mjContact* contacts, size_t n) {
+    for (size_t i = 0; i < n && d->ncon < m->nconmax; ++i) d->contact[d->ncon++] = contacts[i];
   };
-  for (const GeomPair& p : scene_->robot_geom_pairs()) add(p);
-  for (const GeomPair& p : held_pairs_) add(p);
+  for (const std::uint32_t k : pairs_with_contacts_) {
+    append(robot_pair_contacts_[k].data(), robot_pair_contacts_[k].size());
+  }
+  for (const GeomPair& p : held_pairs_) {
+    const int n = collide_geoms(m, d, p, p.margin, found);
+    append(found, static_cast<size_t>(n));
+  }
   ++mutable_work().contact_passes;
   mutable_work().contacts += d->ncon;
 }

@@ -49,6 +49,7 @@
 #include "taskmatrix/mujoco/attachments.h"
 #include "taskmatrix/mujoco/contact_pruning.h"
 #include "taskmatrix/mujoco/joint_servo.h"
+#include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/obstacle_belief.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/mujoco/validity_checker.h"
@@ -170,6 +171,16 @@ class MujocoSkillset final : public core::Skillset {
   // the clock stopped.
   void settle_objects(const std::vector<int>& bodies);
   void settle_free_objects();
+  // frame_pose_at from the kinematics of the bodies between the world and the frame's body
+  // alone (the chain's joints at `values`, every other joint as the simulation has it), by
+  // mj_kinematics' formulas. False, leaving `out`, when a body on that path is a mocap body
+  // or has a joint other than a hinge or a slide.
+  bool path_frame_pose(const std::vector<int>& joints, const std::vector<double>& values,
+                       const BodyFrame& frame, core::Pose& out);
+  std::vector<int> path_bodies_;
+  std::vector<double> path_qpos_;
+  // The layout's obstacles into the worker's model, then mj_forward (no settle, no reset).
+  void apply_obstacles(const core::ObstacleLayout& layout);
   // Kinematic mode: holds back finger motions that would sink into what the fingers touch.
   // `before`: the robot's qpos before the period's commands were set. True if any was held.
   bool stop_fingers_at_contact(const std::vector<double>& before);
@@ -200,6 +211,22 @@ class MujocoSkillset final : public core::Skillset {
   ContactPruning pruning_;
   std::vector<GeomPair> held_pairs_;  // kinematic: held objects' geoms against the world
   bool held_pairs_current_ = false;
+  // Kinematic mode: each geom's pose and collision bits at the last contact pass, and what
+  // each of the scene's robot pairs found then. A pair whose two geoms are as they were finds
+  // what it found (most of the robot and the world stand still while an arm moves). Cleared
+  // whenever the model's geometry may change (a layout, a reset).
+  struct GeomSnapshot {
+    std::array<double, 12> pose;  // geom_xpos, geom_xmat
+    int contype, conaffinity;
+    bool operator==(const GeomSnapshot&) const = default;
+  };
+  std::vector<GeomSnapshot> contact_pass_geoms_;
+  std::vector<int> changed_geoms_;                          // this pass
+  std::vector<std::vector<std::uint32_t>> pairs_of_geom_;   // robot pairs by geom
+  std::vector<std::vector<mjContact>> robot_pair_contacts_;  // per robot pair
+  std::vector<std::uint32_t> pairs_with_contacts_;           // ascending
+  std::vector<std::uint32_t> pair_pass_;                     // the pass a pair was last tested
+  std::uint32_t contact_pass_ = 0;
   struct Finger {                 // kinematic mode: a finger of the profile's hands
     std::vector<int> qpos_adr;    // its joints
     std::vector<double> fist;     // their values in the fist posture

@@ -103,6 +103,11 @@ TEST_P(SkillsetOnBothRobots, ForwardKinematicsMatchesMujocoSitePoses) {
     Eigen::Matrix3d rot;
     rot << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
     EXPECT_LT(angle_between(pose.orientation, Eigen::Quaterniond(rot)), 1e-9);
+    // Bit for bit the whole model's kinematics composed with the site's offset (frame_pose_at
+    // computes only the bodies between the world and the palm).
+    const core::Pose whole = frame_pose(ref.get(), resolve_frame(skills_->scene(), ref.get(), palm));
+    EXPECT_EQ(pose.position, whole.position);
+    EXPECT_EQ(pose.orientation.coeffs(), whole.orientation.coeffs());
   }
   // The current pose is the simulation's.
   const double* p = skills_->sim_data()->site_xpos + 3 * site;
