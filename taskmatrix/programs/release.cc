@@ -1,5 +1,6 @@
 // release: opens a hand to the profile's rest posture (paper: "release"), first letting go of
-// what it holds. With side "any" it opens the hand holding `object`; else, given `near`, the
+// what it holds; a finger stopped short by what it touches (the surface under the object)
+// ends the opening without failing it. With side "any" it opens the hand holding `object`; else, given `near`, the
 // free hand nearest that object (a hand whose grasp did not hold); else every hand holding
 // something, or both hands if none does.
 #include <algorithm>
@@ -58,11 +59,18 @@ class Release final : public core::TaskProgram {
     motion_.follow(ctx, rest.chains, core::timed(open), options);
   }
 
-  core::ProgramState step(core::ProgramContext&) override {
+  core::ProgramState step(core::ProgramContext& ctx) override {
     const std::optional<Ended> result = motion_.step();
     if (!result) return core::ProgramState::kRunning;
     // Touching what was let go is expected; only tracking matters.
-    if (*result && (*result)->code != core::FailureCode::kCollision) return fail(**result);
+    if (*result && (*result)->code != core::FailureCode::kCollision) {
+      // A finger that stopped against something (the surface the object was set on, the
+      // object) has opened as far as the world lets it: the hand has let go. Any other
+      // shortfall (nothing touched) is a failure of the hand.
+      const bool blocked = (*result)->code == core::FailureCode::kTrackingError &&
+                           !ctx.skills().collisions(chains(ctx.skills())).empty();
+      if (!blocked) return fail(**result);
+    }
     return core::ProgramState::kCompleted;
   }
 
