@@ -6,10 +6,10 @@
 //                               head (not the base) throughout
 //   putdown  object, surface    position the held object onto a placement drawn from
 //                               above(object, surface) and near(object, surface), then release
-//   greet    target, side       fixate on the target until it is centred; then, tracking it
-//                               (head and base), raise a free arm (postural wave_start), wave
-//                               (canned wave, while in_view(target) holds); tracking stops and
-//                               the arm is lowered
+//   greet    target, side       fixate on the target until it is centred (head and base);
+//                               raise a free arm (postural wave_start); wave (canned wave,
+//                               while in_view(target) holds), tracking the target with the head;
+//                               tracking stops and the arm is lowered
 //   vacuum   tool, surface      Fig. 4: pickup the tool; position its tip over the nearest
 //                               debris while any is known; putdown the tool on the surface
 #include "taskmatrix/core/state_machine.h"
@@ -147,7 +147,9 @@ MachineSpec greet() {
   m.doc = "look at a person and, once they are in view, wave at them with a free arm";
   m.params = {text_param("target", "who to greet", "visitor"),
               text_param("side", "arm to wave with; any: a free one", "any", kSides)};
-  m.concurrent = {{"track", "fixate", {{"object", "$target"}}, false}};
+  // The base turns only while finding the target: the arms' plans (up to wave_start, down to
+  // rest) assume it stays put, and so does the rest posture they end in.
+  m.concurrent = {{"track", "fixate", {{"object", "$target"}, {"base", "false"}}, false}};
   m.states = {state("find", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
               state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
                     "in_view($target)"),
@@ -160,8 +162,8 @@ MachineSpec greet() {
   m.initial = "find";
   m.transitions = {on_completed("find", "raise"), on_completed("raise", "wave"),
                    on_completed("wave", "lower"), on_completed("lower", "greeted")};
-  m.transitions[0].start = {"track"};
-  // Tracking turns the base and head; the arms' plan down to rest assumes they stay put.
+  // Tracking (the head) runs during the wave only.
+  m.transitions[1].start = {"track"};
   m.transitions[2].stop = {"track"};
   return m;
 }

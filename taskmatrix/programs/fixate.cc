@@ -4,7 +4,8 @@
 // camera's view angles) and moves the head towards it within the head's speed limits. When
 // the head alone cannot centre the object (the head is at a limit and the object is off to
 // the side) and the base is free, the base turns about its yaw joint, the third joint of the
-// planar base chain (x, y, yaw) as the skillset defines it.
+// planar base chain (x, y, yaw) as the skillset defines it; a turn that would bring the robot
+// into collision (is_valid) is not taken.
 //
 // Records "tracking_error_rad" (the angle between the optical axis and the object) every
 // control period. Ends when halted, after `duration` seconds if given, or, with
@@ -103,8 +104,14 @@ class Fixate final : public core::TaskProgram {
         const core::ChainInfo& base = skills.chain("base");
         const double step = base.speed.velocity * dt;
         const double turn = std::clamp(-residual, -step, step);  // +x right: turn left for -x
-        base_cmd_[2] = std::clamp(base_cmd_[2] + turn, base.lower[2], base.upper[2]);
-        skills.command({"base"}, base_cmd_);
+        std::vector<double> turned = base_cmd_;
+        turned[2] = std::clamp(base_cmd_[2] + turn, base.lower[2], base.upper[2]);
+        // Nothing checks a commanded turn on the way: one that would sweep the robot (a hand
+        // beside the table) into something is not taken, and the head alone tracks.
+        if (skills.is_valid({"base"}, turned)) {
+          base_cmd_ = turned;
+          skills.command({"base"}, base_cmd_);
+        }
       }
     }
 
