@@ -7,9 +7,9 @@
 //   putdown  object, surface    position the held object onto a placement drawn from
 //                               above(object, surface) and near(object, surface), then release
 //   greet    target, side       fixate on the target until it is centred (head and base);
-//                               raise a free arm (postural wave_start); wave (canned wave,
-//                               while in_view(target) holds), tracking the target with the head;
-//                               tracking stops and the arm is lowered
+//                               then, tracking it with the head alone, raise a free arm
+//                               (postural wave_start) and wave (canned wave, while
+//                               in_view(target) holds); tracking stops and the arm is lowered
 //   vacuum   tool, surface      Fig. 4: pickup the tool; position its tip over the nearest
 //                               debris while any is known; putdown the tool on the surface
 #include "taskmatrix/core/state_machine.h"
@@ -162,8 +162,7 @@ MachineSpec greet() {
   m.initial = "find";
   m.transitions = {on_completed("find", "raise"), on_completed("raise", "wave"),
                    on_completed("wave", "lower"), on_completed("lower", "greeted")};
-  // Tracking (the head) runs during the wave only.
-  m.transitions[1].start = {"track"};
+  m.transitions[0].start = {"track"};
   m.transitions[2].stop = {"track"};
   return m;
 }

@@ -121,13 +121,14 @@ class Fixate final : public core::TaskProgram {
     } else {
       centered_since_ = -1;
     }
-    if (until_centered_ && centered_since_ >= 0 && now - centered_since_ >= kCenteredHold - 1e-9) {
-      return core::ProgramState::kCompleted;
-    }
-    if (duration_ > 0 && now - start_time_ >= duration_ - 1e-9) {
-      return core::ProgramState::kCompleted;
-    }
-    return core::ProgramState::kRunning;
+    const bool done =
+        (until_centered_ && centered_since_ >= 0 && now - centered_since_ >= kCenteredHold - 1e-9) ||
+        (duration_ > 0 && now - start_time_ >= duration_ - 1e-9);
+    if (!done) return core::ProgramState::kRunning;
+    // The base stops where it is: under physics it lags its command, and a program that plans
+    // next (an arm raised beside the table) plans from where it stands.
+    if (base_) skills.command({"base"}, skills.clamped_configuration({"base"}));
+    return core::ProgramState::kCompleted;
   }
 
  private:

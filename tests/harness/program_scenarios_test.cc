@@ -250,7 +250,7 @@ TEST(GreetOnAtlas, TrackingStopsBeforeTheArmsAreLowered) {
 // fingers into the table while finding the visitor (fixate commanded turns unchecked), while
 // raising the arm (tracking turned the base), or left the rest posture in collision (kitchen,
 // layout 101 shows all three). fixate now takes no turn into collision, and greet tracks with
-// the head alone, during the wave.
+// the head alone once the visitor is found.
 TEST(GreetOnAtlas, TheBaseTurnsOnlyWhereNothingIsSweptIntoTheTable) {
   if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
