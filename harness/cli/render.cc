@@ -30,20 +30,12 @@ struct RenderOptions {
   bool depth = false;
 };
 
-// The view's shown state through `camera` at the options' size; a size the backend cannot draw
-// is an input error naming --width.
-core::RgbImage draw(core::SceneView& view, const core::Camera& camera, const RenderOptions& o) {
+// draw(): the view's image at the options' size; a size the backend cannot draw is an input
+// error naming --width.
+template <class Draw>
+auto sized(const Draw& draw) {
   try {
-    return view.render(camera, o.width, o.height);
-  } catch (const std::invalid_argument& e) {
-    throw core::InputError("--width", "", e.what());
-  }
-}
-
-core::DepthImage draw_depth(core::SceneView& view, const core::Camera& camera,
-                            const RenderOptions& o) {
-  try {
-    return view.render_depth(camera, o.width, o.height);
+    return draw();
   } catch (const std::invalid_argument& e) {
     throw core::InputError("--width", "", e.what());
   }
@@ -73,7 +65,7 @@ int render_trial(const ModelCatalog& catalog, const RenderOptions& o) {
   replay.show(frame);
   std::string camera = o.camera;
   const core::Camera view = camera_view(replay.view(), camera);
-  io::write_png(o.out, draw(replay.view(), view, o));
+  io::write_png(o.out, sized([&] { return replay.view().render(view, o.width, o.height); }));
   std::printf("%s: trial %s at t = %.2f s (frame %zu of %zu), camera %s\n", o.out.c_str(),
               o.trial.c_str(), replay.time_of(frame), frame + 1, replay.frames(), camera.c_str());
   return 0;
@@ -107,7 +99,8 @@ int render(const ModelCatalog& catalog, core::ProgramRegistry& programs, const R
   std::string camera = o.camera;
   const core::Camera through = camera_view(*view, camera);
   if (o.depth) {
-    const core::DepthImage depth = draw_depth(*view, through, o);
+    const core::DepthImage depth =
+        sized([&] { return view->render_depth(through, o.width, o.height); });
     io::write_depth_png(o.out, depth);
     float near = INFINITY, far = 0;
     for (float v : depth.metres) {
@@ -118,7 +111,7 @@ int render(const ModelCatalog& catalog, core::ProgramRegistry& programs, const R
     }
     std::printf("depth %.3f..%.3f m (grey 255..40)\n", near, far);
   } else {
-    io::write_png(o.out, draw(*view, through, o));
+    io::write_png(o.out, sized([&] { return view->render(through, o.width, o.height); }));
   }
   std::printf("%s: %s in %s, seed %lld, %s, camera %s%s\n", o.out.c_str(), o.robot.c_str(),
               o.environment.c_str(), o.seed,

@@ -14,14 +14,11 @@
 
 namespace taskmatrix::mujoco {
 
-core::Pose frame_pose(const mjData* d, FrameRef frame) {
+namespace {
+
+// A pose from a position and a rotation matrix (MuJoCo's xpos and xmat).
+core::Pose pose_from_matrix(const mjtNum* pos, const mjtNum* mat) {
   core::Pose pose;
-  const double* pos = frame.kind == FrameRef::Kind::kSite   ? d->site_xpos + 3 * frame.id
-                      : frame.kind == FrameRef::Kind::kBody ? d->xpos + 3 * frame.id
-                                                            : d->cam_xpos + 3 * frame.id;
-  const double* mat = frame.kind == FrameRef::Kind::kSite   ? d->site_xmat + 9 * frame.id
-                      : frame.kind == FrameRef::Kind::kBody ? d->xmat + 9 * frame.id
-                                                            : d->cam_xmat + 9 * frame.id;
   pose.position = Eigen::Vector3d(pos[0], pos[1], pos[2]);
   Eigen::Matrix3d r;
   r << mat[0], mat[1], mat[2], mat[3], mat[4], mat[5], mat[6], mat[7], mat[8];
@@ -29,12 +26,85 @@ core::Pose frame_pose(const mjData* d, FrameRef frame) {
   return pose;
 }
 
-core::Pose frame_pose(const mjData* d, const BodyFrame& frame) {
-  const core::Pose body = frame_pose(d, FrameRef{FrameRef::Kind::kBody, frame.body});
+core::Pose compose(const core::Pose& body, const core::Pose& offset) {
   core::Pose pose;
-  pose.position = body.position + body.orientation * frame.offset.position;
-  pose.orientation = (body.orientation * frame.offset.orientation).normalized();
+  pose.position = body.position + body.orientation * offset.position;
+  pose.orientation = (body.orientation * offset.orientation).normalized();
   return pose;
+}
+
+}  // namespace
+
+core::Pose frame_pose(const mjData* d, FrameRef frame) {
+  const double* pos = frame.kind == FrameRef::Kind::kSite   ? d->site_xpos + 3 * frame.id
+                      : frame.kind == FrameRef::Kind::kBody ? d->xpos + 3 * frame.id
+                                                            : d->cam_xpos + 3 * frame.id;
+  const double* mat = frame.kind == FrameRef::Kind::kSite   ? d->site_xmat + 9 * frame.id
+                      : frame.kind == FrameRef::Kind::kBody ? d->xmat + 9 * frame.id
+                                                            : d->cam_xmat + 9 * frame.id;
+  return pose_from_matrix(pos, mat);
+}
+
+core::Pose frame_pose(const mjData* d, const BodyFrame& frame) {
+  return compose(pose_from_matrix(d->xpos + 3 * frame.body, d->xmat + 9 * frame.body),
+                 frame.offset);
+}
+
+ChainPath::ChainPath(const mjModel* m, const std::vector<int>& joints, int frame_body,
+                     bool from_world)
+    : m_(m) {
+  std::vector<int> up;
+  for (int b = frame_body; b > 0; b = m->body_parentid[b]) up.push_back(b);
+  std::reverse(up.begin(), up.end());
+  std::vector<char> listed(m->njnt, 0);
+  for (int j : joints) listed[j] = 1;
+  size_t first = from_world ? 0 : up.size();
+  for (size_t k = 0; k < up.size() && first == up.size(); ++k) {
+    for (int i = 0; i < m->body_jntnum[up[k]]; ++i) {
+      if (listed[m->body_jntadr[up[k]] + i]) first = k;
+    }
+  }
+  bodies_.assign(up.begin() + static_cast<long>(first), up.end());
+  top_parent_ = bodies_.empty() ? frame_body : m->body_parentid[bodies_.front()];
+  frame_of_joint_.assign(m->njnt, -1);
+  for (int b : bodies_) {
+    posable_ = posable_ && m->body_mocapid[b] < 0;
+    for (int i = 0; i < m->body_jntnum[b]; ++i) {
+      const int type = m->jnt_type[m->body_jntadr[b] + i];
+      posable_ = posable_ && (type == mjJNT_HINGE || type == mjJNT_SLIDE);
+      frame_of_joint_[m->body_jntadr[b] + i] = static_cast<int>(joint_frames_.size());
+      joint_frames_.push_back({});
+    }
+  }
+  pos_.resize(3 * bodies_.size());
+  quat_.resize(4 * bodies_.size());
+  mat_.resize(9 * bodies_.size());
+}
+
+core::Pose ChainPath::update(const mjData* d, const mjtNum* qpos) {
+  if (!qpos) qpos = d->qpos;
+  const mjtNum* ppos = d->xpos + 3 * top_parent_;
+  const mjtNum* pquat = d->xquat + 4 * top_parent_;
+  const mjtNum* pmat = d->xmat + 9 * top_parent_;
+  JointFrame* frames = joint_frames_.data();
+  for (size_t k = 0; k < bodies_.size(); ++k) {
+    body_pose_from_parent(m_, qpos, bodies_[k], ppos, pquat, pmat, &pos_[3 * k], &quat_[4 * k],
+                          &mat_[9 * k], frames);
+    frames += m_->body_jntnum[bodies_[k]];
+    ppos = &pos_[3 * k];
+    pquat = &quat_[4 * k];
+    pmat = &mat_[9 * k];
+  }
+  frame_pos_ = ppos;
+  frame_mat_ = pmat;
+  core::Pose pose;
+  pose.position = Eigen::Vector3d(ppos[0], ppos[1], ppos[2]);
+  pose.orientation = Eigen::Quaterniond(pquat[0], pquat[1], pquat[2], pquat[3]);
+  return pose;
+}
+
+core::Pose ChainPath::frame_pose(const core::Pose& offset) const {
+  return compose(pose_from_matrix(frame_pos_, frame_mat_), offset);
 }
 
 BodyFrame resolve_frame(const Scene& scene, const mjData* d, const std::string& name,
@@ -89,77 +159,6 @@ core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vect
 }
 
 namespace {
-
-// The part of the body tree IK moves: the frame's ancestors from the first one that carries a
-// joint being solved for, down to the frame's body. Their poses are recomputed per iteration;
-// everything above is read from the data as it was.
-class ChainPath {
- public:
-  ChainPath(const mjModel* m, const std::vector<int>& joints, int frame_body) : m_(m) {
-    std::vector<int> up;
-    for (int b = frame_body; b > 0; b = m->body_parentid[b]) up.push_back(b);
-    std::reverse(up.begin(), up.end());
-    std::vector<char> listed(m->njnt, 0);
-    for (int j : joints) listed[j] = 1;
-    size_t first = up.size();
-    for (size_t k = 0; k < up.size() && first == up.size(); ++k) {
-      for (int i = 0; i < m->body_jntnum[up[k]]; ++i) {
-        if (listed[m->body_jntadr[up[k]] + i]) first = k;
-      }
-    }
-    bodies_.assign(up.begin() + static_cast<long>(first), up.end());
-    top_parent_ = bodies_.empty() ? frame_body : m->body_parentid[bodies_.front()];
-    frame_of_joint_.assign(m->njnt, -1);
-    for (int b : bodies_) {
-      for (int i = 0; i < m->body_jntnum[b]; ++i) {
-        frame_of_joint_[m->body_jntadr[b] + i] = static_cast<int>(joint_frames_.size());
-        joint_frames_.push_back({});
-      }
-    }
-    pos_.resize(3 * bodies_.size());
-    quat_.resize(4 * bodies_.size());
-    mat_.resize(9 * bodies_.size());
-  }
-
-  // Whether joint j moves the frame.
-  bool on_path(int j) const { return frame_of_joint_[j] >= 0; }
-  const JointFrame& joint(int j) const { return joint_frames_[frame_of_joint_[j]]; }
-
-  // Poses of the path's bodies from d->qpos; the frame's body pose afterwards.
-  core::Pose update(const mjData* d) {
-    const mjtNum* ppos = d->xpos + 3 * top_parent_;
-    const mjtNum* pquat = d->xquat + 4 * top_parent_;
-    const mjtNum* pmat = d->xmat + 9 * top_parent_;
-    JointFrame* frames = joint_frames_.data();
-    for (size_t k = 0; k < bodies_.size(); ++k) {
-      body_pose_from_parent(m_, d->qpos, bodies_[k], ppos, pquat, pmat, &pos_[3 * k], &quat_[4 * k],
-                            &mat_[9 * k], frames);
-      frames += m_->body_jntnum[bodies_[k]];
-      ppos = &pos_[3 * k];
-      pquat = &quat_[4 * k];
-      pmat = &mat_[9 * k];
-    }
-    core::Pose pose;
-    pose.position = Eigen::Vector3d(ppos[0], ppos[1], ppos[2]);
-    pose.orientation = Eigen::Quaterniond(pquat[0], pquat[1], pquat[2], pquat[3]);
-    return pose;
-  }
-
- private:
-  const mjModel* m_;
-  std::vector<int> bodies_;
-  int top_parent_ = 0;
-  std::vector<int> frame_of_joint_;  // per joint id: index into joint_frames_, -1 off the path
-  std::vector<JointFrame> joint_frames_;
-  std::vector<mjtNum> pos_, quat_, mat_;
-};
-
-core::Pose compose(const core::Pose& body, const core::Pose& offset) {
-  core::Pose pose;
-  pose.position = body.position + body.orientation * offset.position;
-  pose.orientation = (body.orientation * offset.orientation).normalized();
-  return pose;
-}
 
 Eigen::Vector3d vec3(const mjtNum* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "taskmatrix/core/planning_types.h"
+#include "taskmatrix/mujoco/body_kinematics.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 
@@ -27,6 +28,39 @@ struct BodyFrame {
 BodyFrame resolve_frame(const Scene& scene, const mjData* d, const std::string& name,
                         const std::vector<Attachment>& attachments = {});
 core::Pose frame_pose(const mjData* d, const BodyFrame& frame);
+
+// The part of the body tree `joints` move on the way to a frame's body: its ancestors from the
+// first one that carries one of the joints (from the world's first child with `from_world`),
+// down to the frame's body. update() recomputes their poses from a qpos by mj_kinematics'
+// formulas (body_pose_from_parent: the same numbers, bit for bit); everything above is read
+// from the data as it was. IK and frame_pose_at use it.
+class ChainPath {
+ public:
+  ChainPath(const mjModel* m, const std::vector<int>& joints, int frame_body,
+            bool from_world = false);
+  // Whether update() can pose every body of the path: hinge and slide joints only, no mocap.
+  bool posable() const { return posable_; }
+  // Whether joint j moves the frame; its world frame after the last update().
+  bool on_path(int j) const { return frame_of_joint_[j] >= 0; }
+  const JointFrame& joint(int j) const { return joint_frames_[frame_of_joint_[j]]; }
+  // Poses of the path's bodies from `qpos` (null: d->qpos); the frame body's pose, its
+  // orientation the body quaternion.
+  core::Pose update(const mjData* d, const mjtNum* qpos = nullptr);
+  // After update(): the pose of a frame `offset` from the frame's body, as frame_pose(d, frame)
+  // gives it after a whole mj_kinematics.
+  core::Pose frame_pose(const core::Pose& offset) const;
+
+ private:
+  const mjModel* m_;
+  std::vector<int> bodies_;
+  int top_parent_ = 0;
+  bool posable_ = true;
+  std::vector<int> frame_of_joint_;  // per joint id: index into joint_frames_, -1 off the path
+  std::vector<JointFrame> joint_frames_;
+  std::vector<mjtNum> pos_, quat_, mat_;
+  const mjtNum* frame_pos_ = nullptr;  // the frame body's, after update()
+  const mjtNum* frame_mat_ = nullptr;
+};
 
 // Damped least squares on `joints` (hinge/slide joint ids), clamped to joint limits, from
 // the data's current configuration first and then from seeded random starts. Solutions are

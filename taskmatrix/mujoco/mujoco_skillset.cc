@@ -305,8 +305,21 @@ core::Pose MujocoSkillset::do_frame_pose_at(const std::vector<std::string>& chai
   }
   // Without held objects (which follow their holders), the bodies between the world and the
   // frame's body alone: the same numbers as the whole model's kinematics, bit for bit.
-  core::Pose pose;
-  if (held_.empty() && path_frame_pose(joints, values, resolved, pose)) return pose;
+  if (held_.empty()) {
+    if (!fk_path_ || fk_path_joints_ != joints || fk_path_body_ != resolved.body) {
+      fk_path_.emplace(m, joints, resolved.body, true);
+      fk_path_joints_ = joints;
+      fk_path_body_ = resolved.body;
+    }
+    if (fk_path_->posable()) {
+      fk_qpos_.assign(worker_.data()->qpos, worker_.data()->qpos + m->nq);
+      for (size_t i = 0; i < joints.size(); ++i) {
+        fk_qpos_[static_cast<size_t>(servo_.joint(joints[i]).qpos_adr)] = values[i];
+      }
+      fk_path_->update(worker_.data(), fk_qpos_.data());
+      return fk_path_->frame_pose(resolved.offset);
+    }
+  }
   mjData* q = query_.get();
   sync_query();
   for (size_t i = 0; i < joints.size(); ++i) q->qpos[servo_.joint(joints[i]).qpos_adr] = values[i];
@@ -316,45 +329,6 @@ core::Pose MujocoSkillset::do_frame_pose_at(const std::vector<std::string>& chai
     mj_kinematics(m, q);
   }
   return mujoco::frame_pose(q, resolve_frame(*scene_, q, frame));
-}
-
-bool MujocoSkillset::path_frame_pose(const std::vector<int>& joints,
-                                     const std::vector<double>& values, const BodyFrame& frame,
-                                     core::Pose& out) {
-  const mjModel* m = worker_.model();
-  path_bodies_.clear();
-  for (int b = frame.body; b > 0; b = m->body_parentid[b]) {
-    if (m->body_mocapid[b] >= 0) return false;
-    for (int k = 0; k < m->body_jntnum[b]; ++k) {
-      const int type = m->jnt_type[m->body_jntadr[b] + k];
-      if (type != mjJNT_HINGE && type != mjJNT_SLIDE) return false;
-    }
-    path_bodies_.push_back(b);
-  }
-  const mjData* sim = worker_.data();
-  path_qpos_.assign(sim->qpos, sim->qpos + m->nq);
-  for (size_t i = 0; i < joints.size(); ++i) {
-    path_qpos_[static_cast<size_t>(servo_.joint(joints[i]).qpos_adr)] = values[i];
-  }
-  mjtNum pos[3] = {0, 0, 0}, quat[4] = {1, 0, 0, 0}, mat[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  mju_copy3(pos, sim->xpos);  // the world body's
-  mju_copy4(quat, sim->xquat);
-  mju_copy(mat, sim->xmat, 9);
-  for (auto it = path_bodies_.rbegin(); it != path_bodies_.rend(); ++it) {
-    mjtNum p[3], q[4], r[9];
-    body_pose_from_parent(m, path_qpos_.data(), *it, pos, quat, mat, p, q, r);
-    mju_copy3(pos, p);
-    mju_copy4(quat, q);
-    mju_copy(mat, r, 9);
-  }
-  core::Pose body;
-  body.position = Eigen::Vector3d(pos[0], pos[1], pos[2]);
-  Eigen::Matrix3d rotation;
-  rotation << mat[0], mat[1], mat[2], mat[3], mat[4], mat[5], mat[6], mat[7], mat[8];
-  body.orientation = Eigen::Quaterniond(rotation).normalized();
-  out.position = body.position + body.orientation * frame.offset.position;
-  out.orientation = (body.orientation * frame.offset.orientation).normalized();
-  return true;
 }
 
 core::IkResult MujocoSkillset::do_solve_ik(const std::vector<std::string>& chain_names,

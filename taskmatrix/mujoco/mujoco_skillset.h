@@ -171,14 +171,6 @@ class MujocoSkillset final : public core::Skillset {
   // the clock stopped.
   void settle_objects(const std::vector<int>& bodies);
   void settle_free_objects();
-  // frame_pose_at from the kinematics of the bodies between the world and the frame's body
-  // alone (the chain's joints at `values`, every other joint as the simulation has it), by
-  // mj_kinematics' formulas. False, leaving `out`, when a body on that path is a mocap body
-  // or has a joint other than a hinge or a slide.
-  bool path_frame_pose(const std::vector<int>& joints, const std::vector<double>& values,
-                       const BodyFrame& frame, core::Pose& out);
-  std::vector<int> path_bodies_;
-  std::vector<double> path_qpos_;
   // The layout's obstacles into the worker's model, then mj_forward (no settle, no reset).
   void apply_obstacles(const core::ObstacleLayout& layout);
   // Kinematic mode: holds back finger motions that would sink into what the fingers touch.
@@ -209,6 +201,12 @@ class MujocoSkillset final : public core::Skillset {
   WorldScript world_;
   ExecutionMode execution_ = ExecutionMode::kPhysics;
   ContactPruning pruning_;
+  // frame_pose_at's path from the world to the frame's body, for the last joints and body
+  // asked (programs ask the same many times a period), and the qpos it poses.
+  std::optional<ChainPath> fk_path_;
+  std::vector<int> fk_path_joints_;
+  int fk_path_body_ = -1;
+  std::vector<double> fk_qpos_;
   std::vector<GeomPair> held_pairs_;  // kinematic: held objects' geoms against the world
   bool held_pairs_current_ = false;
   // Kinematic mode: each geom's pose and collision bits at the last contact pass, and what
