@@ -33,6 +33,13 @@ struct IkOptions {
   double distinct_rad = 0.2;  // joint-space (max-norm) separation of solutions
   bool collision_free = true;
   std::uint64_t seed = 1;
+  // The first start, as values of the chains' joints in chain order; empty: the current
+  // configuration. Random restarts are drawn around it.
+  std::vector<double> start;
+  // Per joint in chain order, how freely damped least squares moves it (empty: all 1; the
+  // weighted form of DLS). A zero holds the joint at its start value, e.g. a base placed by a
+  // stance search while the torso and arm solve.
+  std::vector<double> joint_weights;
 };
 
 // A registered planner by name (core::planner_registry(), motion_planning.h) with parameters

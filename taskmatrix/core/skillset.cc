@@ -121,6 +121,20 @@ void Skillset::check_values(const std::vector<std::string>& chain_names,
   }
 }
 
+void Skillset::check_ik_options(const std::vector<std::string>& chain_names,
+                                const IkOptions& options) const {
+  if (!options.start.empty()) check_values(chain_names, options.start, "IK start");
+  if (!options.joint_weights.empty()) {
+    check_values(chain_names, options.joint_weights, "IK joint weights");
+    for (size_t i = 0; i < options.joint_weights.size(); ++i) {
+      if (options.joint_weights[i] < 0) {
+        throw std::invalid_argument("IK joint weight for joint '" + joint_name(chain_names, i) +
+                                    "' is negative");
+      }
+    }
+  }
+}
+
 int Skillset::outside_limits(const std::vector<std::string>& chain_names,
                              const std::vector<double>& values, double tolerance) const {
   size_t k = 0;
@@ -152,6 +166,7 @@ IkResult Skillset::solve_ik(const std::vector<std::string>& chain_names, const s
   IkResult result;
   try {
     check_chains(chain_names);
+    check_ik_options(chain_names, options);
   } catch (const std::invalid_argument& e) {
     result.reason = e.what();
     return result;
@@ -244,6 +259,11 @@ PlanResult Skillset::plan_to_poses_unrecorded(const std::vector<std::string>& ch
                                               const PlanOptions& options, const IkOptions& ik) {
   if (std::optional<PlanResult> bad = plan_input_error(chain_names, options)) return *bad;
   if (targets.empty()) return plan_failure(PlanStatus::kInvalidInput, "no target poses");
+  try {
+    check_ik_options(chain_names, ik);
+  } catch (const std::invalid_argument& e) {
+    return plan_failure(PlanStatus::kInvalidInput, e.what());
+  }
   const QueryScope query(query_depth_);
   PlanResult total;
   total.status = PlanStatus::kIkFailure;

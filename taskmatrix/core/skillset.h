@@ -295,6 +295,10 @@ class Skillset {
  private:
   // Throws std::invalid_argument unless the chains are known, distinct and not empty.
   void check_chains(const std::vector<std::string>& chain_names) const;
+  // Throws std::invalid_argument unless IkOptions::start and joint_weights, where given, have
+  // one finite value per joint of the chains, the weights none negative.
+  void check_ik_options(const std::vector<std::string>& chain_names,
+                        const IkOptions& options) const;
   // Throws std::invalid_argument unless `values` has a finite value per joint of the chains.
   void check_values(const std::vector<std::string>& chain_names, const std::vector<double>& values,
                     const char* what) const;

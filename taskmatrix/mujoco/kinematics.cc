@@ -220,8 +220,21 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
   // Collision checks only for converged solutions: the checker is made on the first.
   std::optional<ValidityChecker> checker;
 
+  if ((!o.start.empty() && o.start.size() != static_cast<size_t>(n)) ||
+      (!o.joint_weights.empty() && o.joint_weights.size() != static_cast<size_t>(n))) {
+    return finish(
+        core::IkStatus::kInvalidInput,
+        "the IK start and joint weights need one value per joint (" + std::to_string(n) + ")");
+  }
   Eigen::VectorXd current(n);
-  for (int i = 0; i < n; ++i) current[i] = std::clamp(saved[adr[i]], lo[i], hi[i]);
+  for (int i = 0; i < n; ++i) {
+    current[i] = std::clamp(o.start.empty() ? saved[adr[i]] : o.start[i], lo[i], hi[i]);
+  }
+  // Weighted damped least squares: a joint of weight zero keeps its start value.
+  const bool weighted = !o.joint_weights.empty();
+  Eigen::VectorXd weight = Eigen::VectorXd::Ones(n);
+  for (int i = 0; weighted && i < n; ++i) weight[i] = o.joint_weights[i];
+  auto moves = [&](int i) { return path.on_path(joints[i]) && weight[i] > 0; };
   auto frame_at = [&](const Eigen::VectorXd& q) {
     for (int i = 0; i < n; ++i) d->qpos[adr[i]] = q[i];
     return compose(path.update(d), frame.offset);
@@ -232,7 +245,8 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
   // successive joint anchors (and from the last one to the frame) of the first anchor.
   std::vector<int> path_joints;  // listed joints that move the frame, from the root outwards
   for (int j = 0; j < m->njnt; ++j) {
-    if (path.on_path(j) && std::find(joints.begin(), joints.end(), j) != joints.end()) {
+    const auto listed = std::find(joints.begin(), joints.end(), j);
+    if (listed != joints.end() && moves(static_cast<int>(listed - joints.begin()))) {
       path_joints.push_back(j);
     }
   }
@@ -293,7 +307,7 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
           std::min(1.0, 2.0 * attempt / static_cast<double>(std::max(1, o.restarts)));
       for (int i = 0; i < n; ++i) {
         const double u = unit(rng);  // drawn for every joint: the stream does not depend on n
-        if (!path.on_path(joints[i])) continue;
+        if (!moves(i)) continue;
         const double a = current[i] - widen * (current[i] - sample_lo[i]);
         const double b = current[i] + widen * (sample_hi[i] - current[i]);
         q[i] = a + (b - a) * u;
@@ -369,9 +383,17 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
         }
       }
       if (o.orientation && free_axis) jac.bottomRows<3>() = keep * jac.bottomRows<3>();
-      const Eigen::MatrixXd jjt =
-          jac * jac.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(rows, rows);
-      Eigen::VectorXd dq = jac.transpose() * jjt.ldlt().solve(err);
+      Eigen::VectorXd dq;
+      if (weighted) {
+        const Eigen::MatrixXd jw = jac * weight.asDiagonal();
+        const Eigen::MatrixXd jjt =
+            jw * jac.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(rows, rows);
+        dq = jw.transpose() * jjt.ldlt().solve(err);
+      } else {
+        const Eigen::MatrixXd jjt =
+            jac * jac.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(rows, rows);
+        dq = jac.transpose() * jjt.ldlt().solve(err);
+      }
       const double step = dq.cwiseAbs().maxCoeff();
       if (step > 0.3) dq *= 0.3 / step;  // keep steps in the linear regime
       q = (q + dq).cwiseMax(lo).cwiseMin(hi);

@@ -505,6 +505,13 @@ std::vector<RobotFinding> check_robot_kinematics(const Scene& scene) {
   return out;
 }
 
+namespace {
+// The solid surfaces of the heights check: tops from, to and every, in cm.
+constexpr int kHeightsFromCm = 40, kHeightsToCm = 100, kHeightsStepCm = 5;
+// A palm that grasps: its approach axis within 30 degrees of the horizontal, or of down.
+const double kGraspTiltSin = std::sin(M_PI / 6), kGraspDownCos = std::cos(M_PI / 6);
+}  // namespace
+
 std::vector<RobotFinding> check_reach_envelope(
     const std::vector<std::shared_ptr<const Scene>>& scenes, double min_reach_m) {
   std::vector<RobotFinding> out;
@@ -548,6 +555,21 @@ std::vector<RobotFinding> check_reach_envelope(
       surfaces.push_back(surface);
     }
   }
+  // Solid surfaces of every height in a range: which heights the robot serves, how far in.
+  const size_t named = surfaces.size();
+  for (int cm = kHeightsFromCm; cm <= kHeightsToCm; cm += kHeightsStepCm) {
+    Surface surface;
+    surface.label = std::to_string(cm);
+    surface.top = cm / 100.0;
+    surface.front = -1e9;
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (!scene.is_robot_geom(g) || limbs[m->geom_bodyid[g]]) continue;
+      if (!(m->geom_contype[g] || m->geom_conaffinity[g])) continue;
+      if (-probe.support(g, -Vec3::UnitZ()) >= surface.top) continue;
+      surface.front = std::max(surface.front, probe.support(g, Vec3::UnitX()));
+    }
+    surfaces.push_back(surface);
+  }
 
   std::mt19937_64 rng(20261202);
   const ChainIndex& torso = scene.chain("torso");
@@ -566,6 +588,12 @@ std::vector<RobotFinding> check_reach_envelope(
       probe.kinematics();
       const Vec3 p = probe.position(hand.palm);
       if (std::abs(p.y()) > 0.35) continue;
+      // With the hand as a grasp holds it: approaching within 30 degrees of the horizontal
+      // (round an object) or of straight down (from above).
+      const Vec3 approach =
+          probe.rotation(hand.palm) * Vec3(hand.approach[0], hand.approach[1], hand.approach[2]);
+      const double down = -approach.normalized().z();
+      if (!(std::abs(down) <= kGraspTiltSin || down >= kGraspDownCos)) continue;
       int collides = -1;  // unknown
       for (Surface& s : surfaces) {
         if (p.z() < s.top + 0.02 || p.z() > s.top + 0.15 || p.x() - s.front <= s.best) continue;
@@ -581,6 +609,20 @@ std::vector<RobotFinding> check_reach_envelope(
       }
     }
   }
+  // How far beyond the front the palm gets over a surface of each height.
+  std::string reaches;
+  bool any = false;
+  for (size_t k = named; k < surfaces.size(); ++k) {
+    const Surface& s = surfaces[k];
+    any = any || s.best >= min_reach_m;
+    reaches += (reaches.empty() ? "" : ", ") + fixed(s.top, 2) + ": " +
+               (s.best < -1e8 ? std::string("nowhere") : fixed(s.best, 2));
+  }
+  out.push_back({any ? Level::kOk : Level::kWarning, "surface heights",
+                 "how far (m) the palm, as a grasp holds it, gets beyond the robot's front 2-15 "
+                 "cm above a solid surface of each top height (m): " +
+                     reaches});
+  surfaces.resize(named);
   for (const Surface& s : surfaces) {
     const std::string where = s.label + " (top " + fixed(s.top, 3) + " m, the robot's front at x " +
                               fixed(s.front, 2) + " m)";

@@ -39,10 +39,14 @@ std::vector<RobotFinding> check_robot_kinematics(const Scene& scene);
 // robot's front (the furthest forward of what no limb moves and reaches below the surface's
 // top, the surface being taken as solid down to the floor; a surface's top is its body's
 // origin), with
-// the palm 2 to 15 cm above the surface's top, within 0.35 m of the robot's midline, and
-// the robot touching nothing of itself, over seeded random configurations of an arm and
+// the palm 2 to 15 cm above the surface's top, within 0.35 m of the robot's midline, held as
+// a grasp holds it (its approach axis within 30 degrees of the horizontal or of straight
+// down), and the robot touching nothing of itself, over seeded random configurations of an arm and
 // the torso (the base stays; stepping can bring the front no nearer). An error below
-// `min_reach_m` (task objects stand up to 0.15 m in from a surface's edge).
+// `min_reach_m` (task objects stand up to 0.15 m in from a surface's edge). One more
+// finding, "surface heights", does the same for solid surfaces of every top from 0.40 to
+// 1.00 m (every 5 cm) and says how far beyond the front the palm gets over each (a
+// warning when it gets `min_reach_m` over none).
 std::vector<RobotFinding> check_reach_envelope(
     const std::vector<std::shared_ptr<const Scene>>& scenes, double min_reach_m = 0.15);
 

@@ -5,7 +5,8 @@
 // the head alone cannot centre the object (the head is at a limit and the object is off to
 // the side) and the base is free, the base turns about its yaw joint, the third joint of the
 // planar base chain (x, y, yaw) as the skillset defines it; a turn that would bring the robot
-// into collision (is_valid) is not taken.
+// into collision (is_valid) is not taken, nor a head step to within 1 cm of anything, the
+// robot's own body included (clearance).
 //
 // Records "tracking_error_rad" (the angle between the optical axis and the object) every
 // control period. Ends when halted, after `duration` seconds if given, or, with
@@ -23,6 +24,10 @@ namespace taskmatrix::programs {
 namespace {
 
 constexpr double kCenteredHold = 0.3;  // s the object must stay centred for until_centered
+// How far (rad, any joint) the head's goal moves before it is checked for collision again.
+constexpr double kGoalRecheckRad = 0.02;
+// How far (m) the head keeps from everything, the robot's own body included.
+constexpr double kHeadClearanceM = 0.01;
 
 // The object's direction in the camera's view: (horizontal, vertical) angles off the optical
 // axis (the camera looks along its -z, with +x right and +y up).
@@ -86,11 +91,25 @@ class Fixate final : public core::TaskProgram {
     const double dt = skills.control_period();
     const core::ChainInfo& head = skills.chain("head");
     const std::vector<double> goal = look_at(skills, head, target);
-    for (size_t i = 0; i < head_.size(); ++i) {
+    std::vector<double> next = head_;
+    for (size_t i = 0; i < next.size(); ++i) {
       const double step = head.speed.velocity * dt;
-      head_[i] = std::clamp(head_[i] + std::clamp(goal[i] - head_[i], -step, step), head.lower[i],
-                            head.upper[i]);
+      next[i] = std::clamp(next[i] + std::clamp(goal[i] - next[i], -step, step), head.lower[i],
+                           head.upper[i]);
     }
+    // Nor is a head step checked on the way: a step to within kHeadClearanceM of anything (the
+    // head pitched down onto the robot's own chest, looking at an object close in front) is
+    // not taken; the margin covers the servo's overshoot. The goal is checked when it has moved
+    // kGoalRecheckRad since it last was; while it is clear the steps towards it go unchecked,
+    // else each step is checked and the head stops short.
+    auto clear = [&](const std::vector<double>& q) {
+      return skills.clearance({"head"}, q, 2 * kHeadClearanceM) >= kHeadClearanceM;
+    };
+    if (checked_goal_.empty() || max_difference(goal, checked_goal_) > kGoalRecheckRad) {
+      checked_goal_ = goal;
+      goal_clear_ = clear(goal);
+    }
+    if (next != head_ && (goal_clear_ || clear(next))) head_ = next;
     skills.command({"head"}, head_);
 
     // What the head cannot take up: the object's horizontal angle from the camera at the
@@ -167,6 +186,9 @@ class Fixate final : public core::TaskProgram {
   bool use_base_, base_ = false;
   std::string camera_;
   std::vector<double> head_, goal_, base_cmd_;
+  // The head goal last checked for collision, and whether it was clear.
+  std::vector<double> checked_goal_;
+  bool goal_clear_ = false;
   double start_time_ = 0, centered_since_ = -1;
   std::optional<core::Failure> failure_;
 };

@@ -243,10 +243,11 @@ std::optional<core::Failure> MotionStage::plan_now(core::ProgramContext& ctx,
 
 std::vector<std::vector<double>> ArmMotion::solve(core::ProgramContext& ctx,
                                                   const std::vector<std::string>& chains, size_t k,
-                                                  std::string& why) {
+                                                  std::string& why,
+                                                  const core::IkOptions* options) {
   core::Skillset& skills = ctx.skills();
   const ArmTarget& t = targets_[k];
-  core::IkOptions ik = ik_;
+  core::IkOptions ik = options ? *options : ik_;
   ik.seed = ctx.next_seed();
   const bool free = t.free_axis.squaredNorm() > 0 && t.free_turn_rad > 0;
   if (free) ik.free_axis = (t.pose.orientation.conjugate() * t.free_axis).normalized();
@@ -315,6 +316,24 @@ std::optional<core::Failure> ArmMotion::reach_from_here(core::ProgramContext& ct
                            (std::isfinite(best_miss_m_) ? buf : " (" + why + ")"));
 }
 
+namespace {
+
+// Failures of reaching from here that a stance nearer the target can cure: no IK solution, or
+// none the planner could connect to (the arm at the edge of its workspace).
+bool stepping_may_help(const core::Failure& failure) {
+  switch (failure.code) {
+    case core::FailureCode::kIkFailure:
+    case core::FailureCode::kApproximateSolution:
+    case core::FailureCode::kPlanningTimeout:
+    case core::FailureCode::kPlanningFailed:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
 std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
                                               const std::string& frame,
                                               std::vector<ArmTarget> targets,
@@ -345,41 +364,135 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   }
   phase_ = Phase::kReaching;
   std::optional<core::Failure> failure = reach_from_here(ctx);
-  if (!base_ || !failure || failure->code != core::FailureCode::kIkFailure) return failure;
+  if (!base_ || !failure || !stepping_may_help(*failure)) return failure;
   return step_over(ctx, std::move(*failure));
 }
 
 std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
                                                   core::Failure failure) {
-  // A stance from which the arm reaches, found by IK over the whole body.
+  // A stance from which the arm reaches: first IK over the whole body from here; then a search
+  // that places the base first (clear of everything, the rest of the body as it is) and
+  // solves the torso and arm with the base held there.
   core::Skillset& skills = ctx.skills();
   std::vector<std::string> body{"base"};
   if (torso_) body.push_back("torso");
   body.push_back(arm_);
   std::string why;
+  // A stance the planner cannot get to: the next one, a bounded number of times.
+  int unplanned = 0;
+  std::optional<core::Failure> last_plan_failure;
+  // Starts moving to a whole-body solution; false when the plan failed and another stance
+  // may be tried, else true with `ended` the failure, if any.
+  auto go = [&](size_t k, const std::vector<double>& solution,
+                std::optional<core::Failure>& ended) {
+    ended = go_to_stance(ctx, body, k, solution);
+    if (ended && ended->code != core::FailureCode::kIkFailure && stepping_may_help(*ended) &&
+        ++unplanned < kMaxUnplannedStances) {
+      last_plan_failure = std::move(ended);
+      ended.reset();
+      return false;
+    }
+    return true;
+  };
+  std::optional<core::Failure> ended;
   for (size_t k = 0; k < targets_.size(); ++k) {
     const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why);
     if (solutions.empty()) continue;
-    // The base alone when the arm can stay as it is at the new stance; else the whole body.
-    const std::vector<double>& solution = solutions.front();
-    const size_t nb = skills.chain("base").joints.size();
-    std::vector<double> stance_now = skills.configuration(body);
-    std::copy(solution.begin(), solution.begin() + static_cast<long>(nb), stance_now.begin());
-    if (skills.is_valid(body, stance_now)) {
-      const std::vector<double> stance(solution.begin(), solution.begin() + static_cast<long>(nb));
-      std::optional<core::Failure> moved = motion_.plan_now(ctx, {"base"}, stance);
-      if (moved) return moved;
-      phase_ = Phase::kStepping;
-      stance_target_ = static_cast<int>(k);
-      stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
-      return std::nullopt;
-    }
-    std::optional<core::Failure> moved = motion_.plan_now(ctx, body, solution);
-    if (!moved) reached_ = static_cast<int>(k);
-    return moved;
+    if (go(k, solutions.front(), ended)) return ended;
+    break;
   }
-  failure.detail += "; stepping: no stance found (" + why + ")";
+  const std::vector<std::vector<double>> stances = stance_candidates(ctx, body);
+  int tried = 0;
+  for (const std::vector<double>& stance : stances) {
+    if (++tried > kMaxStances) break;
+    core::IkOptions held = ik_;
+    held.start = skills.configuration(body);
+    std::copy(stance.begin(), stance.end(), held.start.begin());
+    held.joint_weights.assign(held.start.size(), 1.0);
+    std::fill(held.joint_weights.begin(), held.joint_weights.begin() + 3, 0.0);
+    held.restarts = kStanceRestarts;
+    for (size_t k = 0; k < targets_.size(); ++k) {
+      const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why, &held);
+      if (solutions.empty()) continue;
+      if (go(k, solutions.front(), ended)) return ended;
+      break;  // the next stance
+    }
+  }
+  if (last_plan_failure) return last_plan_failure;
+  failure.detail += "; stepping: no stance found (" + why + "; " +
+                    std::to_string(std::min<int>(tried, kMaxStances)) + " of " +
+                    std::to_string(stances.size()) + " stances searched)";
   return failure;
+}
+
+std::vector<std::vector<double>> ArmMotion::stance_candidates(
+    core::ProgramContext& ctx, const std::vector<std::string>& body) {
+  // Base poses near the current one (forward and back along the heading, to either side,
+  // turned towards the targets' centre or not), then on rings round the targets' centre
+  // facing it (walking round what the target stands on), the nearest travel first.
+  core::Skillset& skills = ctx.skills();
+  const std::vector<double> now = skills.configuration(body);
+  const double x0 = now[0], y0 = now[1], yaw0 = now[2];
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const ArmTarget& t : targets_) centre += t.pose.position;
+  centre /= static_cast<double>(targets_.size());
+  struct Candidate {
+    double cost;
+    std::vector<double> base;
+  };
+  std::vector<Candidate> candidates;
+  auto add = [&](double x, double y, double yaw) {
+    const double turn = std::remainder(yaw - yaw0, 2 * M_PI);
+    candidates.push_back(
+        {std::hypot(x - x0, y - y0) + kStanceTurnCostM * std::abs(turn), {x, y, yaw0 + turn}});
+  };
+  const double facing = std::atan2(centre.y() - y0, centre.x() - x0);
+  const double turn = std::remainder(facing - yaw0, 2 * M_PI);
+  const Eigen::Vector2d ahead(std::cos(yaw0), std::sin(yaw0)), left(-ahead.y(), ahead.x());
+  for (double along : {0.1, 0.2, 0.3, -0.1, -0.2}) {
+    for (double aside : {0.0, -0.15, 0.15}) {
+      for (double share : {0.0, 0.5, 1.0}) {
+        const Eigen::Vector2d at = Eigen::Vector2d(x0, y0) + along * ahead + aside * left;
+        add(at.x(), at.y(), yaw0 + share * turn);
+      }
+    }
+  }
+  // Ring radii in proportion to the robot's height (a human's arm is about 0.35 of it).
+  const double height = skills.profile().height_m;
+  for (double share : {0.25, 0.35, 0.45}) {
+    for (int k = 0; k < kStanceHeadings; ++k) {
+      const double around = 2 * M_PI * k / kStanceHeadings;
+      add(centre.x() + share * height * std::cos(around),
+          centre.y() + share * height * std::sin(around), around + M_PI);
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  std::vector<std::vector<double>> out;
+  for (Candidate& c : candidates) out.push_back(std::move(c.base));
+  return out;
+}
+
+std::optional<core::Failure> ArmMotion::go_to_stance(core::ProgramContext& ctx,
+                                                     const std::vector<std::string>& body, size_t k,
+                                                     const std::vector<double>& solution) {
+  // The base alone when the arm can stay as it is at the new stance; else the whole body.
+  core::Skillset& skills = ctx.skills();
+  const size_t nb = skills.chain("base").joints.size();
+  std::vector<double> stance_now = skills.configuration(body);
+  std::copy(solution.begin(), solution.begin() + static_cast<long>(nb), stance_now.begin());
+  if (skills.is_valid(body, stance_now)) {
+    const std::vector<double> stance(solution.begin(), solution.begin() + static_cast<long>(nb));
+    std::optional<core::Failure> moved = motion_.plan_now(ctx, {"base"}, stance);
+    if (moved) return moved;
+    phase_ = Phase::kStepping;
+    stance_target_ = static_cast<int>(k);
+    stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
+    return std::nullopt;
+  }
+  std::optional<core::Failure> moved = motion_.plan_now(ctx, body, solution);
+  if (!moved) reached_ = static_cast<int>(k);
+  return moved;
 }
 
 std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
@@ -389,7 +502,7 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
     phase_ = Phase::kReaching;
     if (*result) return result;
     std::optional<core::Failure> failure = reach_from_here(ctx);
-    if (base_ && failure && failure->code == core::FailureCode::kIkFailure) {
+    if (base_ && failure && stepping_may_help(*failure)) {
       failure = step_over(ctx, std::move(*failure));
     }
     if (failure) return Ended(std::move(failure));

@@ -156,10 +156,30 @@ class ArmMotion {
   enum class Phase { kEscaping, kStepping, kReaching };
   std::optional<core::Failure> reach_from_here(core::ProgramContext& ctx);
   std::optional<core::Failure> step_over(core::ProgramContext& ctx, core::Failure failure);
-  // IK of `chains` for target k, keeping solutions within its free turn.
+  // Base poses to search for a stance: near the current one, then round the targets; the
+  // nearest travel first.
+  std::vector<std::vector<double>> stance_candidates(core::ProgramContext& ctx,
+                                                     const std::vector<std::string>& body);
+  // Moves to a whole-body solution for target k: the base first when the rest of the body can
+  // stay as it is meanwhile.
+  std::optional<core::Failure> go_to_stance(core::ProgramContext& ctx,
+                                            const std::vector<std::string>& body, size_t k,
+                                            const std::vector<double>& solution);
+  // IK of `chains` for target k (with `options`, else the program's), keeping solutions
+  // within its free turn.
   std::vector<std::vector<double>> solve(core::ProgramContext& ctx,
                                          const std::vector<std::string>& chains, size_t k,
-                                         std::string& why);
+                                         std::string& why,
+                                         const core::IkOptions* options = nullptr);
+  // The stance search's work bounds: stances tried, and IK restarts per target at each.
+  static constexpr int kMaxStances = 48;
+  static constexpr int kStanceRestarts = 3;
+  // Stances found that the planner could not get to before the search gives up.
+  static constexpr int kMaxUnplannedStances = 3;
+  // Stances on each ring round the target, and what a turn of the base costs against walking
+  // when ordering them (metres per radian).
+  static constexpr int kStanceHeadings = 12;
+  static constexpr double kStanceTurnCostM = 0.3;
   MotionStage motion_;
   std::string arm_, frame_;
   std::vector<ArmTarget> targets_;

@@ -24,8 +24,9 @@ TEST(CheckRobot, BuiltInRobotsPassTheLint) {
     EXPECT_EQ(r.exit_code, 0) << robot << "\n" << r.out << r.err;
     EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
     // tallbot's thumb closes across its closing axis: a warning, not an error.
-    for (const char* check : {"| load | ok |", "| mirror signs | ok |", "| palm axes | ",
-                              "| fingers | ok |", "| head camera | ok |"}) {
+    for (const char* check :
+         {"| load | ok |", "| mirror signs | ok |", "| palm axes | ", "| fingers | ok |",
+          "| head camera | ok |", "| surface heights | ok |"}) {
       EXPECT_NE(r.out.find(check), std::string::npos) << robot << ": " << check << "\n" << r.out;
     }
     // Every surface of both rooms is within reach.

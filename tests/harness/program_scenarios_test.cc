@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "harness/run/trial.h"
 #include "harness/scenario/scenario.h"
@@ -35,6 +36,18 @@ core::ProgramRegistry& registry() {
 Scenario program_scenario(const std::string& program) {
   return load_scenario(test::catalog().root() / "scenarios" / "programs" / (program + ".yaml"),
                        test::catalog(), registry());
+}
+
+// A scenario of the generalization suite (objects placed, surface heights and start poses
+// drawn per layout), by name.
+Scenario generalization_scenario(const std::string& name) {
+  const RunPlan plan =
+      load_run_plan(test::catalog().root() / "scenarios" / "suites" / "generalization.yaml",
+                    test::catalog(), registry());
+  const auto it = std::find_if(plan.scenarios.begin(), plan.scenarios.end(),
+                               [&](const Scenario& s) { return s.name == name; });
+  if (it == plan.scenarios.end()) throw std::runtime_error("no scenario " + name);
+  return *it;
 }
 
 // With TASKMATRIX_RENDER_DIR set, writes DIR/<label>_<moment>.png of the trial.
@@ -255,13 +268,7 @@ TEST(GreetOnAtlas, TheBaseTurnsOnlyWhereNothingIsSweptIntoTheTable) {
   if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
-  const RunPlan plan = load_run_plan(
-      test::catalog().root() / "scenarios" / "suites" / "generalization.yaml", test::catalog(),
-      registry());
-  const auto greet = std::find_if(plan.scenarios.begin(), plan.scenarios.end(),
-                                  [](const Scenario& s) { return s.name == "greet"; });
-  ASSERT_NE(greet, plan.scenarios.end());
-  Scenario s = *greet;
+  Scenario s = generalization_scenario("greet");
   s.execution = "kinematic";
   const TrialResult r = run_trial(s, *test::loaded_scene("atlas", "kitchen"), 101, 2, registry());
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
@@ -291,6 +298,38 @@ TEST(PutdownOnAtlas, AFingerStoppedByTheSurfaceEndsTheRelease) {
   Scenario s = program_scenario("putdown");
   s.execution = "kinematic";
   const TrialResult r = run_trial(s, *test::loaded_scene("atlas", "office"), 3, 1, registry());
+  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+}
+
+// A cup 0.81 m ahead on a 0.72 m table (the generalization suite's reach, kitchen, layout
+// 117): tallbot's arm and torso miss every grasp pose by 5 cm or more, and IK over the whole
+// body from where it stands found no stance. The stance search places the base first, nearer
+// the table, and solves the torso and arm with the base held there.
+TEST(ReachOnTallbot, ACupBeyondArmAndTorsoIsReachedFromAStanceFoundBaseFirst) {
+  Scenario s = generalization_scenario("reach");
+  s.execution = "kinematic";
+  std::vector<double> base_at_start, base_at_end;
+  const TrialResult r = run_trial(s, *test::loaded_scene("tallbot", "kitchen"), 117, 18, registry(),
+                                  [&](const std::string& moment, const core::TrialWorld& world) {
+                                    if (moment == "setup")
+                                      base_at_start = world.skills().configuration({"base"});
+                                    if (moment == "end")
+                                      base_at_end = world.skills().configuration({"base"});
+                                  });
+  ASSERT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  ASSERT_EQ(base_at_start.size(), 3u);
+  ASSERT_EQ(base_at_end.size(), 3u);
+  EXPECT_GT(std::hypot(base_at_end[0] - base_at_start[0], base_at_end[1] - base_at_start[1]), 0.05)
+      << "the base did not step";
+}
+
+// fixate alongside reach: looking down at a cup close in front with the neck turned (office,
+// layout 117 of the generalization suite), tallbot's neck pitched to its limit, where the
+// head touches its own shoulders, and reach stopped with `collision of torso with head`.
+// fixate now takes no head step to within 1 cm of anything, its own body included.
+TEST(PickupOnTallbot, FixateKeepsTheHeadOffTheRobotsOwnBody) {
+  const TrialResult r = run_trial(generalization_scenario("pickup"),
+                                  *test::loaded_scene("tallbot", "office"), 117, 18, registry());
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
 }
 

@@ -196,6 +196,50 @@ TEST_P(SkillsetOnBothRobots, IkStopsEarlyAndCountsEveryCall) {
   EXPECT_EQ(skills_->work().ik_calls, before + 3);
 }
 
+// The stance search's IK: the base placed at a start of its own and held there (weight 0)
+// while the torso and arm solve; a reachable target is reached with the base exactly where it
+// was put, and bad starts and weights are refused naming the joint.
+TEST_P(SkillsetOnBothRobots, IkHoldsWeightlessJointsAtTheirStart) {
+  const Chains chains = {"base", "torso", "right_arm"};
+  const std::string palm = skills().profile().find_hand("right")->palm;
+  std::vector<double> q = valid_configuration(skills(), {"torso", "right_arm"}, 700);
+  q.insert(q.begin(), {-0.8, 0.4, 1.0});  // a base pose 0.9 m behind the current one
+  const core::Pose target = skills().frame_pose_at(chains, q, palm);
+  core::IkOptions held;
+  held.collision_free = false;
+  held.start = skills().configuration(chains);
+  std::copy(q.begin(), q.begin() + 3, held.start.begin());
+  held.joint_weights.assign(q.size(), 1.0);
+  std::fill(held.joint_weights.begin(), held.joint_weights.begin() + 3, 0.0);
+  const core::IkResult r = skills().solve_ik(chains, palm, target, held);
+  ASSERT_EQ(r.status, core::IkStatus::kSolved) << r.reason;
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(r.solutions.front()[i], q[i]) << "base joint " << i;
+  const core::Pose reached = skills().frame_pose_at(chains, r.solutions.front(), palm);
+  EXPECT_LT((reached.position - target.position).norm(), 1e-3);
+  // Without the start the base stays where it is, and the arm cannot get there.
+  core::IkOptions from_here = held;
+  from_here.start.clear();
+  from_here.restarts = 3;
+  const core::IkResult stuck = skills().solve_ik(chains, palm, target, from_here);
+  EXPECT_NE(stuck.status, core::IkStatus::kSolved)
+      << "the target was meant to need the base where the start puts it";
+
+  core::IkOptions bad = held;
+  bad.joint_weights[4] = -1;
+  core::IkResult refused = skills().solve_ik(chains, palm, target, bad);
+  EXPECT_EQ(refused.status, core::IkStatus::kInvalidInput);
+  EXPECT_NE(refused.reason.find("is negative"), std::string::npos) << refused.reason;
+  bad = held;
+  bad.start.pop_back();
+  refused = skills().solve_ik(chains, palm, target, bad);
+  EXPECT_EQ(refused.status, core::IkStatus::kInvalidInput);
+  EXPECT_NE(refused.reason.find("IK start has"), std::string::npos) << refused.reason;
+  bad = held;
+  bad.start[0] = NAN;
+  refused = skills().solve_ik(chains, palm, target, bad);
+  EXPECT_NE(refused.reason.find("not finite"), std::string::npos) << refused.reason;
+}
+
 TEST_P(SkillsetOnBothRobots, SeveralTargetPosesAreTriedInTurn) {
   const Chains chains = {"left_arm"};
   const std::string palm = skills().profile().find_hand("left")->palm;
