@@ -3,8 +3,9 @@
 // itself or reaches the profile's fist posture. A segment that touches stops, and so do the
 // segments between it and the palm: once a fingertip holds the object, closing the finger's
 // inner joints would only drag and tilt it. The object is then held (attached to the hand) if
-// a majority of the hand's fingers touch it (HandGeometry::fingers_needed). A grasp that does
-// not hold is noted against the candidate reach moved to, so the next reach tries another.
+// a majority of the hand's fingers touch it or stopped on it (HandGeometry::fingers_needed). A
+// grasp that does not hold is noted against the candidate reach moved to, so the next reach tries
+// another.
 #include <algorithm>
 #include <cmath>
 
@@ -51,6 +52,7 @@ class Grasp final : public core::TaskProgram {
     }
     stopped_.assign(info.joints.size(), true);  // joints that are no finger segment stay put
     for (const Segment& seg : segments_) stopped_[seg.joint] = false;
+    stopped_on_object_.assign(hand_->fingers.size(), false);
     speed_ = 0.5 * info.speed.velocity;
     t0_ = ctx.time();
   }
@@ -61,6 +63,10 @@ class Grasp final : public core::TaskProgram {
     // A segment touching something stops, with every segment nearer the palm on its finger.
     for (const Segment& seg : segments_) {
       if (stopped_[seg.joint] || !touches_world(skills, seg.body)) continue;
+      const std::vector<std::string> touched = skills.touching(seg.body);
+      if (std::find(touched.begin(), touched.end(), object_) != touched.end()) {
+        stopped_on_object_[seg.finger] = true;
+      }
       for (const Segment& inner : segments_) {
         if (inner.finger == seg.finger && inner.index <= seg.index) stopped_[inner.joint] = true;
       }
@@ -103,8 +109,11 @@ class Grasp final : public core::TaskProgram {
   core::ProgramState finish(core::ProgramContext& ctx) {
     core::Skillset& skills = ctx.skills();
     int touching = 0;
-    for (const core::FingerSpec& f : hand_->fingers) {
-      bool touches = false;
+    for (size_t k = 0; k < hand_->fingers.size(); ++k) {
+      const core::FingerSpec& f = hand_->fingers[k];
+      // A finger that stopped on the object holds it, though under physics its contact may
+      // flicker off at the instant the last finger stops.
+      bool touches = stopped_on_object_[k];
       for (const std::string& body : f.bodies) {
         const std::vector<std::string> contacts = skills.touching(body);
         touches |= std::find(contacts.begin(), contacts.end(), object_) != contacts.end();
@@ -133,6 +142,7 @@ class Grasp final : public core::TaskProgram {
   std::vector<Segment> segments_;
   std::vector<std::string> own_bodies_;  // the hand's finger segments
   std::vector<bool> stopped_;            // per hand joint
+  std::vector<bool> stopped_on_object_;  // per finger: a segment stopped touching the object
   double speed_ = 1.0;
   double t0_ = 0;
 };
