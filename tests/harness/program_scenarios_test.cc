@@ -14,6 +14,7 @@
 #include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/io/png.h"
 #include "taskmatrix/mujoco/offscreen_renderer.h"
+#include "taskmatrix/programs/grasp_candidates.h"
 #include "taskmatrix/programs/primitives.h"
 #include "tests/test_support.h"
 
@@ -341,6 +342,92 @@ TEST(GraspOnMinibot, AFingerThatStoppedOnTheCupHoldsItThoughItsContactFlickers) 
   const TrialResult r = run_trial(generalization_scenario("grasp"),
                                   *test::loaded_scene("minibot", "kitchen"), 108, 9, registry());
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+}
+
+// The paper's retry loop (pickup: reach, grasp; a grasp that does not hold: let go, back off,
+// reach for the next grasp), constructed: the first grasp of a run closes with too few
+// fingers (it fails as grasp does, noting the candidate reach moved to as failed), later ones
+// are the real grasp. pickup must let go, back off, reach a different candidate, and hold it.
+class FirstGraspFails final : public core::TaskProgram {
+ public:
+  FirstGraspFails(std::unique_ptr<core::TaskProgram> real, core::Params params, int& runs,
+                  std::vector<std::string>& reached)
+      : real_(std::move(real)), params_(std::move(params)), runs_(runs), reached_(reached) {}
+  std::vector<std::string> chains(const core::Skillset& skills) const override {
+    return real_->chains(skills);
+  }
+  std::vector<std::string> claim(const core::ClaimContext& ctx) override {
+    return real_->claim(ctx);
+  }
+  core::ConditionPtr precondition() const override { return real_->precondition(); }
+  void start(core::ProgramContext& ctx) override {
+    first_ = runs_++ == 0;
+    const std::string object = params_.text("object");
+    for (const char* side : {"left", "right"}) {
+      const std::vector<std::string>& note = ctx.notes(programs::reached_grasp_note(object, side));
+      if (!note.empty()) {
+        side_ = side;
+        reached_.push_back(note.front());
+      }
+    }
+    if (!first_) real_->start(ctx);
+  }
+  core::ProgramState step(core::ProgramContext& ctx) override {
+    if (first_) {
+      ctx.notes(programs::failed_grasps_note(params_.text("object"), side_))
+          .push_back(reached_.back());
+      return fail(core::FailureCode::kGraspFailed, "1 of 3 fingers touch it (constructed)");
+    }
+    const core::ProgramState state = real_->step(ctx);
+    if (state == core::ProgramState::kFailed) return fail(real_->failure());
+    return state;
+  }
+  void halt(core::ProgramContext& ctx) override { real_->halt(ctx); }
+
+ private:
+  std::unique_ptr<core::TaskProgram> real_;
+  core::Params params_;
+  int& runs_;
+  std::vector<std::string>& reached_;
+  bool first_ = false;
+  std::string side_;
+};
+
+TEST(PickupOnTallbot, AGraspThatDoesNotHoldIsLetGoOfAndTheNextCandidateReachedFor) {
+  int runs = 0;
+  std::vector<std::string> reached;  // the candidate reach moved to, at each grasp
+  core::ProgramRegistry primitives;
+  programs::register_primitives(primitives);
+  core::ProgramRegistry programs;
+  for (const std::string& name : primitives.names()) {
+    core::ProgramType type = *primitives.find(name);
+    if (name == "grasp") {
+      const auto real = type.make;
+      type.make = [real, &runs, &reached](const core::Params& p) {
+        return std::make_unique<FirstGraspFails>(real(p), p, runs, reached);
+      };
+    }
+    programs.add(std::move(type));
+  }
+  programs::register_complex(programs);
+  Scenario s = program_scenario("pickup");
+  s.execution = "kinematic";
+  const TrialResult r =
+      run_trial(s, *test::loaded_scene("tallbot", "kitchen"), s.layout_seed, s.seed, programs);
+  ASSERT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  EXPECT_EQ(runs, 2);
+  ASSERT_EQ(reached.size(), 2u);
+  EXPECT_NE(reached[0], reached[1]) << "the second reach went back to the grasp that failed";
+  auto count = [&](const std::string& program, const std::string& type) {
+    return std::count_if(r.events.begin(), r.events.end(), [&](const TrialEvent& e) {
+      return e.program == program && e.type == type;
+    });
+  };
+  EXPECT_EQ(count("grasp", "failed"), 1);
+  EXPECT_EQ(count("release", "completed"), 1);
+  EXPECT_EQ(count("retreat", "completed"), 1);
+  EXPECT_EQ(count("reach", "completed"), 2);
+  EXPECT_EQ(count("grasp", "completed"), 1);
 }
 
 }  // namespace
