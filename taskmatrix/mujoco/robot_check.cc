@@ -532,6 +532,16 @@ std::vector<RobotFinding> check_reach_envelope(
   };
   std::vector<Surface> surfaces;
   const std::vector<char> limbs = moved_by(scene, kLimbChains);
+  auto front_at = [&](double top) {
+    double front = -1e9;
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (!scene.is_robot_geom(g) || limbs[m->geom_bodyid[g]]) continue;
+      if (!(m->geom_contype[g] || m->geom_conaffinity[g])) continue;
+      if (-probe.support(g, -Vec3::UnitZ()) >= top) continue;  // passes over the surface
+      front = std::max(front, probe.support(g, Vec3::UnitX()));
+    }
+    return front;
+  };
   for (const auto& s : scenes) {
     Probe env(*s);
     env.reset(true);
@@ -545,13 +555,7 @@ std::vector<RobotFinding> check_reach_envelope(
       Surface surface;
       surface.label = s->environment().name + " " + name;
       surface.top = top;
-      surface.front = -1e9;
-      for (int g = 0; g < m->ngeom; ++g) {
-        if (!scene.is_robot_geom(g) || limbs[m->geom_bodyid[g]]) continue;
-        if (!(m->geom_contype[g] || m->geom_conaffinity[g])) continue;
-        if (-probe.support(g, -Vec3::UnitZ()) >= top) continue;  // passes over the surface
-        surface.front = std::max(surface.front, probe.support(g, Vec3::UnitX()));
-      }
+      surface.front = front_at(top);
       surfaces.push_back(surface);
     }
   }
@@ -561,13 +565,7 @@ std::vector<RobotFinding> check_reach_envelope(
     Surface surface;
     surface.label = std::to_string(cm);
     surface.top = cm / 100.0;
-    surface.front = -1e9;
-    for (int g = 0; g < m->ngeom; ++g) {
-      if (!scene.is_robot_geom(g) || limbs[m->geom_bodyid[g]]) continue;
-      if (!(m->geom_contype[g] || m->geom_conaffinity[g])) continue;
-      if (-probe.support(g, -Vec3::UnitZ()) >= surface.top) continue;
-      surface.front = std::max(surface.front, probe.support(g, Vec3::UnitX()));
-    }
+    surface.front = front_at(surface.top);
     surfaces.push_back(surface);
   }
 

@@ -62,8 +62,9 @@ class Grasp final : public core::TaskProgram {
     const std::string chain = hand_of(side_);
     // A segment touching something stops, with every segment nearer the palm on its finger.
     for (const Segment& seg : segments_) {
-      if (stopped_[seg.joint] || !touches_world(skills, seg.body)) continue;
+      if (stopped_[seg.joint]) continue;
       const std::vector<std::string> touched = skills.touching(seg.body);
+      if (!touches_world(touched)) continue;
       if (std::find(touched.begin(), touched.end(), object_) != touched.end()) {
         stopped_on_object_[seg.finger] = true;
       }
@@ -96,9 +97,10 @@ class Grasp final : public core::TaskProgram {
     std::string body;
   };
 
-  // Whether `body` touches anything but the hand's own fingers.
-  bool touches_world(const core::Skillset& skills, const std::string& body) const {
-    for (const std::string& other : skills.touching(body)) {
+  // Whether what a segment touches (Skillset::touching) includes anything but the hand's own
+  // fingers.
+  bool touches_world(const std::vector<std::string>& touched) const {
+    for (const std::string& other : touched) {
       if (std::find(own_bodies_.begin(), own_bodies_.end(), other) == own_bodies_.end()) {
         return true;
       }

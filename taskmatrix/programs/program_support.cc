@@ -371,14 +371,15 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
 std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
                                                   core::Failure failure) {
   // A stance from which the arm reaches: first IK over the whole body from here; then a search
-  // that places the base first (clear of everything, the rest of the body as it is) and
-  // solves the torso and arm with the base held there.
+  // that places the base first (stance_candidates) and solves the torso and arm with the base
+  // held there, each solution collision-checked with the body as it would stand.
   core::Skillset& skills = ctx.skills();
   std::vector<std::string> body{"base"};
   if (torso_) body.push_back("torso");
   body.push_back(arm_);
   std::string why;
-  // A stance the planner cannot get to: the next one, a bounded number of times.
+  // A stance the planner cannot get to: the next one; the kMaxUnplannedStances-th such plan
+  // failure is the program's.
   int unplanned = 0;
   std::optional<core::Failure> last_plan_failure;
   // Starts moving to a whole-body solution; false when the plan failed and another stance
@@ -402,15 +403,18 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
     break;
   }
   const std::vector<std::vector<double>> stances = stance_candidates(ctx, body);
+  // IK from each stance with the base's joints held (weight 0), the rest of the body starting
+  // where it is.
+  const size_t nb = skills.chain("base").joints.size();
+  core::IkOptions held = ik_;
+  held.start = skills.configuration(body);
+  held.joint_weights.assign(held.start.size(), 1.0);
+  std::fill(held.joint_weights.begin(), held.joint_weights.begin() + static_cast<long>(nb), 0.0);
+  held.restarts = kStanceRestarts;
   int tried = 0;
   for (const std::vector<double>& stance : stances) {
     if (++tried > kMaxStances) break;
-    core::IkOptions held = ik_;
-    held.start = skills.configuration(body);
     std::copy(stance.begin(), stance.end(), held.start.begin());
-    held.joint_weights.assign(held.start.size(), 1.0);
-    std::fill(held.joint_weights.begin(), held.joint_weights.begin() + 3, 0.0);
-    held.restarts = kStanceRestarts;
     for (size_t k = 0; k < targets_.size(); ++k) {
       const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why, &held);
       if (solutions.empty()) continue;
