@@ -11,6 +11,13 @@ ContactPruning::ContactPruning(const Scene& scene, const mjModel* m, ContactPrun
     : options_(options) {
   contype_.assign(m->geom_contype, m->geom_contype + m->ngeom);
   conaffinity_.assign(m->geom_conaffinity, m->geom_conaffinity + m->ngeom);
+  open_contype_ = contype_;
+  open_conaffinity_ = conaffinity_;
+  int used = 0;
+  for (int g = 0; g < m->ngeom; ++g) used |= contype_[g] | conaffinity_[g];
+  for (int bit = 30; bit >= 0 && hold_bits_.size() < 2; --bit) {
+    if (!(used & (1 << bit))) hold_bits_.push_back(1 << bit);
+  }
   margin_.assign(m->geom_margin, m->geom_margin + m->ngeom);
   rbound_.assign(m->geom_rbound, m->geom_rbound + m->ngeom);
   std::vector<char> slot_geom(m->ngeom, 0);
@@ -47,8 +54,27 @@ ContactPruning::ContactPruning(const Scene& scene, const mjModel* m, ContactPrun
 }
 
 void ContactPruning::set_bits(mjModel* m, int geom, bool on) const {
-  m->geom_contype[geom] = on ? contype_[geom] : 0;
-  m->geom_conaffinity[geom] = on ? conaffinity_[geom] : 0;
+  m->geom_contype[geom] = on ? open_contype_[geom] : 0;
+  m->geom_conaffinity[geom] = on ? open_conaffinity_[geom] : 0;
+}
+
+void ContactPruning::apply_holds(const mjModel* m) {
+  open_contype_ = contype_;
+  open_conaffinity_ = conaffinity_;
+  for (size_t k = 0; k < holds_.size() && k < hold_bits_.size(); ++k) {
+    const Hold& h = holds_[k];
+    const int bit = hold_bits_[k];
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (!contype_[g] && !conaffinity_[g]) continue;
+      const int b = m->geom_bodyid[g];
+      if (m->body_rootid[b] == h.body) {
+        open_contype_[g] = bit;  // collides only through the hold's bit
+        open_conaffinity_[g] = bit;
+      } else if (std::find(h.hand_bodies.begin(), h.hand_bodies.end(), b) == h.hand_bodies.end()) {
+        open_conaffinity_[g] |= bit;
+      }
+    }
+  }
 }
 
 void ContactPruning::set_tree_bits(mjModel* m, const Tree& t, bool on) const {
@@ -57,6 +83,13 @@ void ContactPruning::set_tree_bits(mjModel* m, const Tree& t, bool on) const {
 
 void ContactPruning::begin(mjModel* m) {
   active_ = true;
+  if (holds_changed_) {
+    apply_holds(m);
+    holds_changed_ = false;
+  }
+  if (!holds_.empty()) {
+    for (int g = 0; g < m->ngeom; ++g) set_bits(m, g, true);
+  }
   for (const Tree& t : trees_) {
     if (t.asleep) set_tree_bits(m, t, false);
   }
@@ -67,10 +100,9 @@ void ContactPruning::begin(mjModel* m) {
 
 void ContactPruning::end(mjModel* m) {
   active_ = false;
-  for (const Tree& t : trees_) {
-    if (t.asleep) set_tree_bits(m, t, true);
-  }
-  for (const Box& b : boxes_) set_bits(m, b.geom, true);
+  // Every bit as compiled: queries (IK, validity, planning) see the model as compiled.
+  std::copy(contype_.begin(), contype_.end(), m->geom_contype);
+  std::copy(conaffinity_.begin(), conaffinity_.end(), m->geom_conaffinity);
 }
 
 void ContactPruning::wake_all() {
@@ -81,13 +113,18 @@ void ContactPruning::wake_all() {
   for (Box& b : boxes_) b.closed = false;
 }
 
-void ContactPruning::set_held(int body, bool held) {
+void ContactPruning::set_held(int body, bool held, const std::vector<int>& hand_bodies) {
   for (Tree& t : trees_) {
     if (t.root != body) continue;
     t.held = held;
     t.asleep = false;
     t.rest_steps = 0;
   }
+  holds_.erase(
+      std::remove_if(holds_.begin(), holds_.end(), [&](const Hold& h) { return h.body == body; }),
+      holds_.end());
+  if (held) holds_.push_back({body, hand_bodies});
+  holds_changed_ = true;
 }
 
 int ContactPruning::sleeping() const {

@@ -223,6 +223,7 @@ std::optional<core::Failure> MotionStage::plan_to_configuration(
         execution.may_touch.push_back(t);
       }
     }
+    escape->options.may_touch = execution.may_touch;  // and what the planned motion may touch
     follow(ctx, escape->chains, std::move(escape->motion), escape->options);
     return std::nullopt;
   }
@@ -358,6 +359,8 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   if (std::optional<Escape> escape = escape_motion(ctx, side, holding ? 0.04 : 0.05)) {
     motion_.execution.may_touch.insert(motion_.execution.may_touch.end(), escape->touched.begin(),
                                        escape->touched.end());
+    // Getting free may touch what the motion after it may (reach's object).
+    escape->options.may_touch = motion_.execution.may_touch;
     motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
     phase_ = Phase::kEscaping;
     return std::nullopt;

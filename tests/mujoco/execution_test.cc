@@ -3,9 +3,13 @@
 // robots in the kitchen.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
+#include "taskmatrix/mujoco/attachments.h"
+#include "taskmatrix/mujoco/contact_pruning.h"
+#include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 #include "tests/test_support.h"
 
@@ -207,6 +211,67 @@ TEST_P(ExecutionOnBothRobots, KinematicReleaseDropsTheObjectOntoWhatIsBelow) {
   // And it stays there.
   for (int k = 0; k < 20; ++k) skills->advance();
   EXPECT_LT((skills->frame_pose("cup").position - cup.position).norm(), 1e-12);
+}
+
+TEST_P(ExecutionOnBothRobots, AHeldObjectCollidesWithEverythingButTheHandHoldingIt) {
+  // The cup inside the right palm and the box pushed into the cup: the physics sees the cup
+  // touch the hand and the box. Held by the right hand, it touches the box only, and the right
+  // hand nothing of it; after the physics step every bit is as compiled.
+  const std::shared_ptr<const Scene> scene = test::scene(GetParam(), "kitchen");
+  ModelPtr model(mj_copyModel(nullptr, scene->model()));
+  mjModel* m = model.get();
+  DataPtr data(mj_makeData(m));
+  mjData* d = data.get();
+  mj_forward(m, d);
+  const int cup = mj_name2id(m, mjOBJ_BODY, "cup");
+  const int box = mj_name2id(m, mjOBJ_BODY, "box");
+  ASSERT_GT(cup, 0);
+  ASSERT_GT(box, 0);
+  const BodyFrame palm = resolve_frame(*scene, d, scene->robot().find_hand("right")->palm);
+  double* cup_q = d->qpos + m->jnt_qposadr[m->body_jntadr[cup]];
+  double* box_q = d->qpos + m->jnt_qposadr[m->body_jntadr[box]];
+  mju_copy3(cup_q, d->xpos + 3 * palm.body);
+  mju_copy3(box_q, cup_q);
+  box_q[0] += 0.05;
+  mj_forward(m, d);
+  const Attachment held = attachment_at(*scene, m, d, cup, palm.body, "cup", "right");
+  auto cup_contacts = [&](bool with_hand) {
+    int n = 0;
+    for (int i = 0; i < d->ncon; ++i) {
+      const int b[2] = {m->geom_bodyid[d->contact[i].geom1], m->geom_bodyid[d->contact[i].geom2]};
+      for (int s = 0; s < 2; ++s) {
+        if (m->body_rootid[b[s]] != cup) continue;
+        const bool hand = std::find(held.hand_bodies.begin(), held.hand_bodies.end(), b[1 - s]) !=
+                          held.hand_bodies.end();
+        n += hand == with_hand;
+      }
+    }
+    return n;
+  };
+  ASSERT_GT(cup_contacts(true), 0) << "the cup is not in the hand";
+  const int with_box = cup_contacts(false);
+  ASSERT_GT(with_box, 0) << "the box does not touch the cup";
+
+  const std::vector<int> contype(m->geom_contype, m->geom_contype + m->ngeom);
+  const std::vector<int> conaffinity(m->geom_conaffinity, m->geom_conaffinity + m->ngeom);
+  ContactPruningOptions nothing_pruned;
+  nothing_pruned.gate_large_static_boxes = false;
+  nothing_pruned.sleep_resting_objects = false;
+  ContactPruning pruning(*scene, m, nothing_pruned);
+  pruning.set_held(cup, true, held.hand_bodies);
+  pruning.begin(m);
+  mj_forward(m, d);
+  EXPECT_EQ(cup_contacts(true), 0) << "the hand still pushes on what it holds";
+  EXPECT_EQ(cup_contacts(false), with_box);
+  pruning.end(m);
+  EXPECT_EQ(std::vector<int>(m->geom_contype, m->geom_contype + m->ngeom), contype);
+  EXPECT_EQ(std::vector<int>(m->geom_conaffinity, m->geom_conaffinity + m->ngeom), conaffinity);
+  // Let go: the hand touches it again.
+  pruning.set_held(cup, false);
+  pruning.begin(m);
+  mj_forward(m, d);
+  EXPECT_GT(cup_contacts(true), 0);
+  pruning.end(m);
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, ExecutionOnBothRobots, ::testing::Values("tallbot", "minibot"));
