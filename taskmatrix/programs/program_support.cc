@@ -495,6 +495,7 @@ std::optional<core::Failure> ArmMotion::go_to_stance(core::ProgramContext& ctx,
     phase_ = Phase::kStepping;
     stance_target_ = static_cast<int>(k);
     stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
+    stance_body_ = body;
     return std::nullopt;
   }
   std::optional<core::Failure> moved = motion_.plan_now(ctx, body, solution);
@@ -523,10 +524,20 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
   if (torso_) rest.insert(rest.begin(), "torso");
   const ArmTarget& t = targets_[static_cast<size_t>(stance_target_)];
   const core::Pose at = ctx.skills().frame_pose_at(rest, stance_rest_, frame_);
-  if ((at.position - t.pose.position).norm() <= 0.01 && ctx.skills().is_valid(rest, stance_rest_) &&
-      !motion_.plan_now(ctx, rest, stance_rest_)) {
-    reached_ = stance_target_;
-    return std::nullopt;
+  if ((at.position - t.pose.position).norm() <= 0.01 && ctx.skills().is_valid(rest, stance_rest_)) {
+    if (!motion_.plan_now(ctx, rest, stance_rest_)) {
+      reached_ = stance_target_;
+      return std::nullopt;
+    }
+    // The arm cannot get there with the base standing where it is (it hangs below the edge of
+    // what it reaches over): the whole body, which may step away and back.
+    std::vector<double> whole = ctx.skills().configuration(stance_body_);
+    std::copy(stance_rest_.begin(), stance_rest_.end(),
+              whole.end() - static_cast<long>(stance_rest_.size()));
+    if (!motion_.plan_now(ctx, stance_body_, whole)) {
+      reached_ = stance_target_;
+      return std::nullopt;
+    }
   }
   if (std::optional<core::Failure> failure = reach_from_here(ctx)) {
     return Ended(std::move(failure));

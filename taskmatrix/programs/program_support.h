@@ -190,6 +190,7 @@ class ArmMotion {
   // While stepping: the target the stance is for, and the rest of the body's values there.
   int stance_target_ = -1;
   std::vector<double> stance_rest_;
+  std::vector<std::string> stance_body_;  // base, torso (if used) and arm
   // The best IK miss over the targets, for the failure message.
   double best_miss_m_ = INFINITY, best_miss_rad_ = 0;
   std::string best_miss_tag_;

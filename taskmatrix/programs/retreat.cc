@@ -47,6 +47,12 @@ class Retreat final : public core::TaskProgram {
                                      std::to_string(distance_).substr(0, 4) + " m");
         return;
       }
+      // Withdrawing from what it let go of may brush it, as stepping back from it may.
+      if (!from_.empty() &&
+          std::find(escape->options.may_touch.begin(), escape->options.may_touch.end(), from_) ==
+              escape->options.may_touch.end()) {
+        escape->options.may_touch.push_back(from_);
+      }
       motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
       return;
     }
@@ -126,7 +132,8 @@ core::ProgramType retreat_program() {
             std::string(),
             {},
             "the surface or object to step away from (base; default: the nearest surface), or "
-            "near which to choose the hand (hand, side any)"},
+            "the object the hand withdraws from, which it may brush (hand; side any: the hand "
+            "nearest it)"},
            {"distance", ParamType::kNumber, false, 0.2, {}, "how far, m"},
            {"side", ParamType::kString, false, std::string("any"), kSides,
             "hand: which; any: the free hand nearest `from`"}},

@@ -330,6 +330,37 @@ TEST(VacuumOnAtlas, FreeingTheHandMayTouchTheObjectReachedFor) {
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
 }
 
+// minibot stepped up to the table to reach the vacuum's handle and the arm, hanging at its
+// side below the table's edge, could not be planned up to the solution found for that stance
+// with the base standing still (`approximate_solution`, generalization vacuum, kitchen, layout
+// 111). The whole body is then planned to it, free to step away and back.
+TEST(VacuumOnMinibot, AnArmThatCannotRiseAtItsStanceIsPlannedThereWithTheWholeBody) {
+  const Scenario s = generalization_scenario("vacuum");
+  const TrialResult r =
+      run_trial(s, *test::loaded_scene("minibot", "kitchen"), 111, 12, registry());
+  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+}
+
+// atlas's first grasp of the vacuum's handle closed one finger of three on it; pickup let go
+// and withdrew the hand, whose finger brushed the handle it had just let go of, and retreat
+// stopped as a collision (generalization position, office, layout 100). Withdrawing from what
+// it let go of may brush it.
+TEST(PickupOnAtlas, WithdrawingFromAGraspThatDidNotHoldMayBrushTheObject) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  const Scenario s = generalization_scenario("position");
+  const TrialResult r = run_trial(s, *test::loaded_scene("atlas", "office"), 100, 1, registry());
+  auto count = [&](const std::string& program, const std::string& type) {
+    return std::count_if(r.events.begin(), r.events.end(), [&](const TrialEvent& e) {
+      return e.program == program && e.type == type;
+    });
+  };
+  ASSERT_GE(count("grasp", "failed"), 1) << "the first grasp held: nothing to withdraw from";
+  EXPECT_EQ(count("retreat", "failed"), 0);
+  EXPECT_EQ(count("retreat", "completed"), count("grasp", "failed"));
+}
+
 // A cup 0.81 m ahead on a 0.72 m table (the generalization suite's reach, kitchen, layout
 // 117): tallbot's arm and torso miss every grasp pose by 5 cm or more, and IK over the whole
 // body from where it stands found no stance. The stance search places the base first, nearer
