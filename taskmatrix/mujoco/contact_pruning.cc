@@ -59,13 +59,16 @@ void ContactPruning::set_bits(mjModel* m, int geom, bool on) const {
 }
 
 void ContactPruning::apply_holds(const mjModel* m) {
-  open_contype_ = contype_;
-  open_conaffinity_ = conaffinity_;
+  // From the bits as they are (a layout may have switched obstacle slots on or off).
+  saved_contype_.assign(m->geom_contype, m->geom_contype + m->ngeom);
+  saved_conaffinity_.assign(m->geom_conaffinity, m->geom_conaffinity + m->ngeom);
+  open_contype_ = saved_contype_;
+  open_conaffinity_ = saved_conaffinity_;
   for (size_t k = 0; k < holds_.size() && k < hold_bits_.size(); ++k) {
     const Hold& h = holds_[k];
     const int bit = hold_bits_[k];
     for (int g = 0; g < m->ngeom; ++g) {
-      if (!contype_[g] && !conaffinity_[g]) continue;
+      if (!saved_contype_[g] && !saved_conaffinity_[g]) continue;
       const int b = m->geom_bodyid[g];
       if (m->body_rootid[b] == h.body) {
         open_contype_[g] = bit;  // collides only through the hold's bit
@@ -83,12 +86,13 @@ void ContactPruning::set_tree_bits(mjModel* m, const Tree& t, bool on) const {
 
 void ContactPruning::begin(mjModel* m) {
   active_ = true;
-  if (holds_changed_) {
+  holds_applied_ = !holds_.empty() && !hold_bits_.empty();
+  if (holds_applied_) {
     apply_holds(m);
-    holds_changed_ = false;
-  }
-  if (!holds_.empty()) {
     for (int g = 0; g < m->ngeom; ++g) set_bits(m, g, true);
+  } else if (open_contype_ != contype_ || open_conaffinity_ != conaffinity_) {
+    open_contype_ = contype_;
+    open_conaffinity_ = conaffinity_;
   }
   for (const Tree& t : trees_) {
     if (t.asleep) set_tree_bits(m, t, false);
@@ -100,9 +104,15 @@ void ContactPruning::begin(mjModel* m) {
 
 void ContactPruning::end(mjModel* m) {
   active_ = false;
-  // Every bit as compiled: queries (IK, validity, planning) see the model as compiled.
-  std::copy(contype_.begin(), contype_.end(), m->geom_contype);
-  std::copy(conaffinity_.begin(), conaffinity_.end(), m->geom_conaffinity);
+  if (holds_applied_) {  // every bit as it was at begin()
+    std::copy(saved_contype_.begin(), saved_contype_.end(), m->geom_contype);
+    std::copy(saved_conaffinity_.begin(), saved_conaffinity_.end(), m->geom_conaffinity);
+    return;
+  }
+  for (const Tree& t : trees_) {
+    if (t.asleep) set_tree_bits(m, t, true);
+  }
+  for (const Box& b : boxes_) set_bits(m, b.geom, true);
 }
 
 void ContactPruning::wake_all() {
@@ -124,7 +134,6 @@ void ContactPruning::set_held(int body, bool held, const std::vector<int>& hand_
       std::remove_if(holds_.begin(), holds_.end(), [&](const Hold& h) { return h.body == body; }),
       holds_.end());
   if (held) holds_.push_back({body, hand_bodies});
-  holds_changed_ = true;
 }
 
 int ContactPruning::sleeping() const {

@@ -93,7 +93,8 @@ class ContactPruning {
   ContactPruningOptions options_;
   std::vector<Tree> trees_;
   std::vector<Box> boxes_;
-  // Recomputes open_contype_ and open_conaffinity_ from the compiled bits and the holds.
+  // Saves the model's bits and computes open_contype_ and open_conaffinity_ from them and the
+  // holds.
   void apply_holds(const mjModel* m);
 
   struct Hold {
@@ -101,10 +102,11 @@ class ContactPruning {
     std::vector<int> hand_bodies;
   };
   std::vector<Hold> holds_;
-  bool holds_changed_ = false;
+  bool holds_applied_ = false;              // between begin() and end()
   std::vector<int> hold_bits_;              // free collision bits, one per simultaneous hold
   std::vector<int> contype_, conaffinity_;  // as compiled, per geom
-  std::vector<int> open_contype_, open_conaffinity_;  // with the holds applied
+  std::vector<int> open_contype_, open_conaffinity_;    // on: with the holds applied
+  std::vector<int> saved_contype_, saved_conaffinity_;  // at begin(), while holding
   std::vector<double> margin_, rbound_;
   int rest_steps_needed_ = 1;
   bool active_ = false;  // between begin() and end()

@@ -238,7 +238,10 @@ TEST(FailureCloseUp, TheCameraIsInNothingAndSeesItsFocus) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto trials = read_trials_file(dir / "run" / "trials.jsonl").trials;
   ASSERT_EQ(trials.size(), 1u);
-  ASSERT_EQ(trials[0]["status"], "planning_timeout") << trials[0]["failure_reason"];
+  // No plan within 1 iteration: OMPL reports a timeout or its approximate solution.
+  const std::string status = trials[0]["status"];
+  ASSERT_TRUE(status == "planning_timeout" || status == "approximate_solution")
+      << trials[0]["failure_reason"];
   const std::string trial = (dir / "run").string() + ":" + trials[0]["trial_id"].get<std::string>();
 
   const FailurePictures p = failure_pictures(test::catalog(), trial, -1, {"", 160, 120});
