@@ -67,15 +67,29 @@ void ContactPruning::apply_holds(const mjModel* m) {
   for (size_t k = 0; k < holds_.size() && k < hold_bits_.size(); ++k) {
     const Hold& h = holds_[k];
     const int bit = hold_bits_[k];
+    std::vector<int> held;
     for (int g = 0; g < m->ngeom; ++g) {
-      if (!saved_contype_[g] && !saved_conaffinity_[g]) continue;
+      if (m->body_rootid[m->geom_bodyid[g]] == h.body) held.push_back(g);
+    }
+    // Whether geom `g` collides with any of the held object's geoms by their bits as they are.
+    auto pairs_with_held = [&](int g) {
+      return std::any_of(held.begin(), held.end(), [&](int o) {
+        return (saved_contype_[g] & saved_conaffinity_[o]) ||
+               (saved_contype_[o] & saved_conaffinity_[g]);
+      });
+    };
+    for (int g = 0; g < m->ngeom; ++g) {
       const int b = m->geom_bodyid[g];
-      if (m->body_rootid[b] == h.body) {
-        open_contype_[g] = bit;  // collides only through the hold's bit
-        open_conaffinity_[g] = bit;
-      } else if (std::find(h.hand_bodies.begin(), h.hand_bodies.end(), b) == h.hand_bodies.end()) {
+      if (m->body_rootid[b] == h.body) continue;
+      if (std::find(h.hand_bodies.begin(), h.hand_bodies.end(), b) == h.hand_bodies.end() &&
+          pairs_with_held(g)) {
         open_conaffinity_[g] |= bit;
       }
+    }
+    for (int o : held) {
+      if (!saved_contype_[o] && !saved_conaffinity_[o]) continue;
+      open_contype_[o] = bit;  // collides only through the hold's bit
+      open_conaffinity_[o] = bit;
     }
   }
 }

@@ -307,8 +307,8 @@ TEST(PutdownOnAtlas, AFingerStoppedByTheSurfaceEndsTheRelease) {
 }
 
 // Under physics atlas held the vacuum's handle in a firm grip, and the grip's contact forces on
-// the kinematically held vacuum pushed the arm 0.012-0.025 rad off its path (2.5 cm at the
-// vacuum's end), so passing the nozzle 8 mm over the table drove it 5 mm into it (the
+// the kinematically held vacuum pushed the arm 0.012-0.025 rad off its path, so passing the
+// nozzle 8 mm over the table drove it 5 mm into it (the
 // generalization suite's vacuum, office, layout 102, on the third flake: `collision of vacuum
 // with work_surface (depth 5.0 mm)`). A held object no longer collides with the hand holding it.
 TEST(VacuumOnAtlas, AHeldToolFollowsItsPathOverTheTableUnderPhysics) {
