@@ -278,6 +278,30 @@ TEST_P(ExecutionOnBothRobots, AHeldObjectCollidesWithEverythingButTheHandHolding
   mj_forward(m, d);
   EXPECT_GT(cup_contacts(true), 0);
   pruning.end(m);
+  // A model whose bits keep the box off the cup keeps it off while the cup is held.
+  auto cup_box_contacts = [&] {
+    int n = 0;
+    for (int i = 0; i < d->ncon; ++i) {
+      const int r1 = m->body_rootid[m->geom_bodyid[d->contact[i].geom1]];
+      const int r2 = m->body_rootid[m->geom_bodyid[d->contact[i].geom2]];
+      n += (r1 == cup && r2 == box) || (r1 == box && r2 == cup);
+    }
+    return n;
+  };
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->body_rootid[m->geom_bodyid[g]] == box && m->geom_contype[g]) {
+      m->geom_contype[g] = 2;
+      m->geom_conaffinity[g] = 2;
+    }
+  }
+  mj_forward(m, d);
+  ASSERT_EQ(cup_box_contacts(), 0);
+  pruning.set_held(cup, true, held.hand_bodies);
+  pruning.begin(m);
+  mj_forward(m, d);
+  EXPECT_EQ(cup_box_contacts(), 0) << "the hold let the box collide with the cup";
+  EXPECT_EQ(cup_contacts(true), 0);
+  pruning.end(m);
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, ExecutionOnBothRobots, ::testing::Values("tallbot", "minibot"));
