@@ -104,9 +104,6 @@ void ContactPruning::begin(mjModel* m) {
   if (holds_applied_) {
     apply_holds(m);
     for (int g = 0; g < m->ngeom; ++g) set_bits(m, g, true);
-  } else if (open_contype_ != contype_ || open_conaffinity_ != conaffinity_) {
-    open_contype_ = contype_;
-    open_conaffinity_ = conaffinity_;
   }
   for (const Tree& t : trees_) {
     if (t.asleep) set_tree_bits(m, t, false);
@@ -118,9 +115,11 @@ void ContactPruning::begin(mjModel* m) {
 
 void ContactPruning::end(mjModel* m) {
   active_ = false;
-  if (holds_applied_) {  // every bit as it was at begin()
+  if (holds_applied_) {  // every bit as it was at begin(); `on` is as compiled again
     std::copy(saved_contype_.begin(), saved_contype_.end(), m->geom_contype);
     std::copy(saved_conaffinity_.begin(), saved_conaffinity_.end(), m->geom_conaffinity);
+    open_contype_ = contype_;
+    open_conaffinity_ = conaffinity_;
     return;
   }
   for (const Tree& t : trees_) {

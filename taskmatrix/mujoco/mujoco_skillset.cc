@@ -849,16 +849,16 @@ void MujocoSkillset::do_attach(const std::string& object, const std::string& sid
   mj_forward(m, d);
   held_.add(
       attachment_at(*scene_, m, d, body, resolve_frame(*scene_, d, hand->palm).body, object, side));
-  const std::vector<int>& hand_bodies = held_.find(object)->hand_bodies;
-  pruning_.set_held(body, true, hand_bodies);
+  const Attachment& held = *held_.find(object);
+  pruning_.set_held(body, true, held.hand_bodies);
   held_pairs_current_ = false;
   if (execution_ == ExecutionMode::kPhysics) {
     // The object no longer pushes back on the fingers (ContactPruning): they hold where they
-    // closed rather than close on through it.
+    // closed rather than close on through it. (The palm body's own joint is the arm's.)
     for (const ServoJoint& s : servo_.joints()) {
       const int b = m->jnt_bodyid[s.joint];
-      if (b != hand_bodies.front() &&
-          std::find(hand_bodies.begin(), hand_bodies.end(), b) != hand_bodies.end()) {
+      if (b != held.holder_body && std::find(held.hand_bodies.begin(), held.hand_bodies.end(), b) !=
+                                       held.hand_bodies.end()) {
         servo_.set_target(s.joint, d->qpos[s.qpos_adr], 0, 0, d);
       }
     }
