@@ -24,6 +24,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "taskmatrix/core/parameters.h"
@@ -45,6 +46,13 @@ struct PlanningProblem {
   // Motions are valid when states at most this fraction of the space's extent (the diagonal
   // of the bounds box, OMPL's convention) apart along the straight line are: motion_valid().
   double motion_resolution = 0.005;
+  // Where is_valid lets states come closer to obstacles (near the start and the goals, where a
+  // hand starts beside or ends next to something), motions are checked more finely: parts of
+  // a motion within fine_radius (rad or m, every joint) of the start or a goal have states at
+  // most fine_resolution x the extent apart. fine_resolution 0 (or not below
+  // motion_resolution): no finer checks.
+  double fine_radius = 0;
+  double fine_resolution = 0;
   // The planner's budget: > 0: at most this many iterations (evaluations of the termination
   // condition, about one sampling step each), time_limit_s being a safety net; 0: the clock.
   unsigned max_iterations = 10000;
@@ -97,22 +105,100 @@ inline double space_extent(const PlanningProblem& p) {
   return std::sqrt(s);
 }
 
+// Whether `q` lies within the problem's fine_radius of its start or a goal (every joint).
+inline bool near_endpoint(const PlanningProblem& p, const double* q) {
+  auto near = [&](const Configuration& e) {
+    for (size_t i = 0; i < e.size(); ++i) {
+      if (std::abs(q[i] - e[i]) > p.fine_radius) return false;
+    }
+    return true;
+  };
+  if (near(p.start)) return true;
+  for (const Configuration& g : p.goals) {
+    if (near(g)) return true;
+  }
+  return false;
+}
+
+// The states checked along the straight motion from `a` to `b`, as fractions of the way in
+// (0, 1), in order: at most motion_resolution x the extent apart, and at most fine_resolution
+// x the extent apart on the steps that begin or end near an endpoint (near_endpoint).
+inline std::vector<double> motion_check_points(const PlanningProblem& p, const double* a,
+                                               const double* b) {
+  const size_t n = p.lower.size();
+  const double extent = space_extent(p);
+  const double step = p.motion_resolution * extent;
+  const double fine_step = p.fine_resolution > 0 && p.fine_resolution < p.motion_resolution
+                               ? p.fine_resolution * extent
+                               : 0;
+  const double d = configuration_distance(a, b, n);
+  const int segments = step > 0 ? static_cast<int>(std::ceil(d / step)) : 1;
+  std::vector<double> q(n), points;
+  auto near_at = [&](double t) {
+    for (size_t i = 0; i < n; ++i) q[i] = a[i] + t * (b[i] - a[i]);
+    return near_endpoint(p, q.data());
+  };
+  for (int k = 1; k <= segments; ++k) {
+    const double t0 = static_cast<double>(k - 1) / segments;
+    const double t1 = static_cast<double>(k) / segments;
+    if (fine_step > 0 && (near_at(t0) || near_at(t1))) {
+      const int sub = static_cast<int>(std::ceil(d / segments / fine_step));
+      for (int j = 1; j < sub; ++j) points.push_back(t0 + (t1 - t0) * j / sub);
+    }
+    if (k < segments) points.push_back(t1);
+  }
+  return points;
+}
+
 // Whether the straight motion from `a` (assumed valid) to `b` is valid: `b` first, then the
-// states between them at most motion_resolution * space_extent apart (OMPL's discrete motion
-// validator's order and spacing).
+// states motion_check_points() names, in order (OMPL's discrete motion validator's spacing;
+// taskmatrix/ompl gives OMPL planners this same check).
 inline bool motion_valid(const PlanningProblem& p, const double* a, const double* b) {
   const size_t n = p.lower.size();
   if (!p.is_valid(b)) return false;
-  const double step = p.motion_resolution * space_extent(p);
-  const double d = configuration_distance(a, b, n);
-  const int segments = step > 0 ? static_cast<int>(std::ceil(d / step)) : 1;
   std::vector<double> q(n);
-  for (int k = 1; k < segments; ++k) {
-    const double t = static_cast<double>(k) / segments;
+  for (double t : motion_check_points(p, a, b)) {
     for (size_t i = 0; i < n; ++i) q[i] = a[i] + t * (b[i] - a[i]);
     if (!p.is_valid(q.data())) return false;
   }
   return true;
+}
+
+// The same check in OMPL's discrete motion validator's order: `b`, then the middle of the
+// states between and the middles of the halves on either side of it, breadth first (a
+// collision in the middle of a long motion is found after few checks).
+inline bool motion_valid_bisecting(const PlanningProblem& p, const double* a, const double* b) {
+  const size_t n = p.lower.size();
+  if (!p.is_valid(b)) return false;
+  const std::vector<double> points = motion_check_points(p, a, b);
+  if (points.empty()) return true;
+  std::vector<double> q(n);
+  std::vector<std::pair<int, int>> ranges{{0, static_cast<int>(points.size()) - 1}};
+  for (size_t next = 0; next < ranges.size(); ++next) {
+    const auto [first, last] = ranges[next];
+    const int mid = (first + last) / 2;
+    for (size_t i = 0; i < n; ++i) q[i] = a[i] + points[mid] * (b[i] - a[i]);
+    if (!p.is_valid(q.data())) return false;
+    if (first < mid) ranges.emplace_back(first, mid - 1);
+    if (last > mid) ranges.emplace_back(mid + 1, last);
+  }
+  return true;
+}
+
+// The same motion checked from `a` on, in order, `b` last: the fraction of the way to the last
+// valid state before the first invalid one (0: `a`), or 1 when the motion is valid.
+inline double motion_valid_fraction(const PlanningProblem& p, const double* a, const double* b) {
+  const size_t n = p.lower.size();
+  std::vector<double> q(n);
+  double last = 0;
+  std::vector<double> points = motion_check_points(p, a, b);
+  points.push_back(1.0);
+  for (double t : points) {
+    for (size_t i = 0; i < n; ++i) q[i] = a[i] + t * (b[i] - a[i]);
+    if (!p.is_valid(q.data())) return last;
+    last = t;
+  }
+  return 1.0;
 }
 
 // The termination condition of PlanningProblem: an iteration budget (when given) checked
@@ -201,7 +287,7 @@ PlannerRegistry& planner_registry();
 //   TASKMATRIX_PLANNER_PLUGIN(registrar) { registrar.add({...}); }
 // The loader checks taskmatrix_planner_plugin_api() against its own kPlannerPluginApi before
 // calling taskmatrix_register_planners. Change the number when anything above changes layout.
-inline constexpr int kPlannerPluginApi = 1;
+inline constexpr int kPlannerPluginApi = 2;
 
 }  // namespace taskmatrix::core
 

@@ -64,8 +64,10 @@ struct PlanOptions {
   int simplify_rounds = 3;
   double simplify_time_s = 30.0;
   double motion_resolution = 0.005;  // fraction of the space's extent between checked states
-  // Distance paths keep from obstacles (not from the floor), except near the start and goals
-  // (which may be closer): room for the execution's tracking error. 0: paths may touch.
+  // Distance paths keep from obstacles (not from the floor): room for the execution's tracking
+  // error. Within 0.25 (rad or m, every joint) of the start or a goal the distance asked for
+  // grows in proportion from nothing at the endpoint (a hand beside what it grasps) to this,
+  // and motions there are checked five times more finely. 0: paths may touch.
   double clearance_m = 0.01;
   std::uint32_t seed = 1;  // > 0
   // Objects (symbolic names) the start may touch, a few millimetres deep: what a hand let go

@@ -15,6 +15,10 @@ namespace taskmatrix::mujoco {
 namespace {
 
 constexpr double kEndpointRadius = 0.25;  // rad or m
+// Below this (m), the clearance near an endpoint is left to the contact check itself.
+constexpr double kMinRampClearance = 1e-4;
+// How many times closer the checks along a motion are near an endpoint.
+constexpr double kFineChecks = 5;
 constexpr double kMaxTimeLimitS = 86400;  // beyond it, planners' deadline arithmetic overflows
 
 }  // namespace
@@ -128,20 +132,23 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
 
   // Clearance: states keep o.clearance_m from obstacles, except within kEndpointRadius (joint
   // space, max-norm) of the start or a goal, which may be closer (a hand next to what it will
-  // grasp). Without it, simplified paths graze obstacles and execution, which tracks the
-  // path only to within a few millimetres, touches them.
-  auto near = [&](const double* v, const std::vector<double>& e) {
-    for (size_t i = 0; i < n; ++i) {
-      if (std::abs(v[i] - e[i]) > kEndpointRadius) return false;
-    }
-    return true;
+  // grasp): there the clearance asked for grows from nothing at the endpoint to o.clearance_m
+  // at the radius, so a path leaves an endpoint's surroundings instead of sliding along them.
+  // Without it, simplified paths graze obstacles and execution, which tracks the path only to
+  // within a few millimetres (more while the arm speeds up or slows down near the ends),
+  // touches them.
+  auto distance_from = [&](const double* v, const std::vector<double>& e) {
+    double dist = 0;
+    for (size_t i = 0; i < n; ++i) dist = std::max(dist, std::abs(v[i] - e[i]));
+    return dist;
   };
-  auto near_endpoint = [&](const double* v) {
-    if (near(v, start)) return true;
-    for (const auto& g : goals) {
-      if (near(v, g)) return true;
-    }
-    return false;
+  auto near = [&](const double* v, const std::vector<double>& e) {
+    return distance_from(v, e) <= kEndpointRadius;
+  };
+  auto endpoint_distance = [&](const double* v) {
+    double dist = distance_from(v, start);
+    for (const auto& g : goals) dist = std::min(dist, distance_from(v, g));
+    return dist;
   };
   const double clearance = o.clearance_m;
   core::PlanningProblem problem;
@@ -156,11 +163,23 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     if (start_touches_allowed && near(v, start)) return !touching->in_collision(v);
     if (clearance > 0) {
       if (!checker.within_margin(v, clearance)) return true;
-      if (!near_endpoint(v)) return false;
+      const double from_end = endpoint_distance(v);
+      if (from_end > kEndpointRadius) return false;
+      // Nothing within `needed` means no contact either.
+      const double needed = clearance * from_end / kEndpointRadius;
+      if (needed > kMinRampClearance) return !checker.within_margin(v, needed, /*count=*/false);
     }
     return !checker.in_collision(v, /*count=*/clearance <= 0);
   };
   problem.motion_resolution = o.motion_resolution;
+  if (clearance > 0) {
+    // Where the clearance asked for falls below o.clearance_m, the checks along a motion
+    // are closer together: elsewhere the centimetre every checked state keeps makes a graze
+    // between two checks unlikely, but two states a hair off the table say little about the
+    // straight line between them (the arm's far end moves centimetres between checks).
+    problem.fine_radius = kEndpointRadius;
+    problem.fine_resolution = o.motion_resolution / kFineChecks;
+  }
   problem.max_iterations = o.max_iterations;
   problem.time_limit_s = o.time_limit_s;
   problem.simplify_rounds = o.simplify_rounds;

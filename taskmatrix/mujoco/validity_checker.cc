@@ -331,8 +331,8 @@ bool ValidityChecker::in_collision(const double* values, bool count) {
   return false;
 }
 
-bool ValidityChecker::within_margin(const double* values, double margin_m) {
-  if (!begin_check(values)) return true;
+bool ValidityChecker::within_margin(const double* values, double margin_m, bool count) {
+  if (!begin_check(values, count)) return true;
   for (size_t k = 0; k < changing_pairs_.size(); ++k) {
     const GeomPair& p = changing_pairs_[k];
     if (changing_pair_tolerance_[k] > 0) {

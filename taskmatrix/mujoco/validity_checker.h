@@ -89,8 +89,8 @@ class ValidityChecker {
   bool in_collision(const double* values, bool count = true);
   // Like in_collision, but a robot-world pair also counts when MuJoCo finds it within
   // `margin_m` (beyond its own margin). Robot-robot pairs and pairs with a support tolerance
-  // (a held object on what it rested on) are checked as in in_collision.
-  bool within_margin(const double* values, double margin_m);
+  // (a held object on what it rested on) are checked as in in_collision. `count` as there.
+  bool within_margin(const double* values, double margin_m, bool count = true);
 
   // Smallest signed distance (m) between the geoms the moving joints move (attached objects
   // included) and everything they may touch, at `values`; capped at `cap_m`. Negative values

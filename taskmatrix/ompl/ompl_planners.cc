@@ -206,6 +206,38 @@ std::string check_values(const Factory& factory, const core::PlannerParams& para
   return "";
 }
 
+// OMPL's discrete motion validator with the problem's finer checks near its endpoints
+// (core::motion_check_points), in the same order.
+class FineMotionValidator : public ob::MotionValidator {
+ public:
+  FineMotionValidator(ob::SpaceInformation* si, const core::PlanningProblem& p)
+      : ob::MotionValidator(si), p_(p) {}
+
+  bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
+    const bool ok = core::motion_valid_bisecting(p_, values(s1), values(s2));
+    (ok ? valid_ : invalid_)++;
+    return ok;
+  }
+  bool checkMotion(const ob::State* s1, const ob::State* s2,
+                   std::pair<ob::State*, double>& last_valid) const override {
+    const double t = core::motion_valid_fraction(p_, values(s1), values(s2));
+    if (t >= 1.0) {
+      valid_++;
+      return true;
+    }
+    if (last_valid.first != nullptr) si_->getStateSpace()->interpolate(s1, s2, t, last_valid.first);
+    last_valid.second = t;
+    invalid_++;
+    return false;
+  }
+
+ private:
+  static const double* values(const ob::State* s) {
+    return s->as<ob::RealVectorStateSpace::StateType>()->values;
+  }
+  const core::PlanningProblem& p_;
+};
+
 class OmplPlanner : public core::Planner {
  public:
   OmplPlanner(std::string name, Factory factory, core::PlannerParams params)
@@ -238,6 +270,9 @@ core::PlannerResult OmplPlanner::solve(const core::PlanningProblem& p) {
     return p.is_valid(s->as<ob::RealVectorStateSpace::StateType>()->values);
   });
   si->setStateValidityCheckingResolution(p.motion_resolution);
+  if (p.fine_resolution > 0 && p.fine_resolution < p.motion_resolution) {
+    si->setMotionValidator(std::make_shared<FineMotionValidator>(si.get(), p));
+  }
   si->setup();
 
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);

@@ -153,5 +153,80 @@ TEST(MotionPlanning, MotionCheckSpacing) {
   EXPECT_FALSE(motion_valid(w.problem, a, c));
 }
 
+// A wall 1 cm thick 3 cm from the start and 14 cm long, which checks 7 cm apart step over. Near an
+// endpoint the checks come closer together: there a backend lets states come close to obstacles (a
+// hand beside a table), and the line between two checked states may cross one.
+struct ThinWallNearTheStart {
+  PlanningProblem problem;
+  int checks = 0;
+  ThinWallNearTheStart() {
+    problem.joint_names = {"x", "y"};
+    problem.lower = {0, 0};
+    problem.upper = {1, 1};
+    problem.start = {0.1, 0.5};
+    problem.goals = {{0.9, 0.5}};
+    problem.is_valid = [this](const double* q) {
+      ++checks;
+      return !(q[0] >= 0.125 && q[0] <= 0.135 && q[1] > 0.43 && q[1] < 0.57);
+    };
+    problem.motion_resolution = 0.05;  // 7.1 cm
+    problem.max_iterations = 5000;
+    problem.seed = 3;
+  }
+};
+
+TEST(MotionPlanning, MotionsNearAnEndpointAreCheckedMoreFinely) {
+  ThinWallNearTheStart w;
+  const double* a = w.problem.start.data();
+  const double* b = w.problem.goals[0].data();
+  // At the coarse spacing alone the checks step over the wall: 0.1, 0.171, ...
+  EXPECT_TRUE(motion_valid(w.problem, a, b));
+  EXPECT_EQ(motion_check_points(w.problem, a, b).size(), 11u);  // ceil(0.8 / 0.0707) - 1
+  w.problem.fine_radius = 0.1;
+  w.problem.fine_resolution = 0.005;  // 7 mm
+  EXPECT_FALSE(motion_valid(w.problem, a, b));
+  EXPECT_FALSE(motion_valid_bisecting(w.problem, a, b));
+  EXPECT_LT(motion_valid_fraction(w.problem, a, b), 0.04 / 0.8);
+  // Fine only on the steps that begin or end within 0.1 of the start or the goal: the first two
+  // and the last two of 12, each cut into 10; the 8 in the middle stay whole.
+  const std::vector<double> points = motion_check_points(w.problem, a, b);
+  EXPECT_EQ(points.size(), 11u + 4 * 9u);
+  EXPECT_TRUE(std::is_sorted(points.begin(), points.end()));
+  // Away from the ends, nothing changes.
+  const double c[2] = {0.3, 0.5}, d[2] = {0.7, 0.5};
+  w.problem.fine_resolution = 0;
+  const size_t coarse = motion_check_points(w.problem, c, d).size();
+  w.problem.fine_resolution = 0.005;
+  EXPECT_EQ(motion_check_points(w.problem, c, d).size(), coarse);
+}
+
+TEST(MotionPlanning, PlannersFindTheThinWallWithFinerChecksNearTheEnds) {
+  const PlannerRegistry r = registry_with_builtins();
+  for (const std::string name : {"RRTConnect", "LineConnect"}) {
+    // What the planner gets: both run the same check.
+    ThinWallNearTheStart coarse;
+    const PlannerResult through = r.make(name, {})->solve(coarse.problem);
+    ASSERT_EQ(through.status, PlannerStatus::kExactSolution) << name;
+    ThinWallNearTheStart fine;
+    fine.problem.fine_radius = 0.1;
+    fine.problem.fine_resolution = 0.005;
+    const PlannerResult around = r.make(name, {})->solve(fine.problem);
+    ASSERT_EQ(around.status, PlannerStatus::kExactSolution) << name;
+    // Checked at 0.7 mm everywhere: the path found with fine checks goes round the wall, the
+    // one found without goes through it.
+    PlanningProblem dense = fine.problem;
+    dense.fine_resolution = 0;
+    dense.motion_resolution = 0.0005;
+    auto path_valid = [&](const PlannerResult& result) {
+      for (size_t k = 1; k < result.path.size(); ++k) {
+        if (!motion_valid(dense, result.path[k - 1].data(), result.path[k].data())) return false;
+      }
+      return true;
+    };
+    EXPECT_FALSE(path_valid(through)) << name;
+    EXPECT_TRUE(path_valid(around)) << name;
+  }
+}
+
 }  // namespace
 }  // namespace taskmatrix::core

@@ -274,6 +274,103 @@ TEST_P(PlanOnBothRobots, AnytimePlannersRepeatUnderAnIterationBudgetAndReportThe
   EXPECT_EQ(planner.plan({goal}, huge).status, core::PlanStatus::kInvalidInput);
 }
 
+// A path keeps 1 cm from the world except near its start and goal (a hand beside what it
+// grasps), and there only in proportion: the clearance asked for grows from nothing at the
+// endpoint to the full centimetre 0.25 rad (every joint) away from it, so a path leaves a start
+// a hair off the table instead of sliding along it. Checked at exactly the states the planner
+// checks along each motion (core::motion_check_points with the planner's spacing).
+TEST_P(PlanOnBothRobots, PathsLeaveAStartAHairOffTheWorldWithClearanceGrowingAway) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  worker.apply_layout(scene->make_layout(8, 5));
+  worker.reset_to_start();
+  // The torso and an arm: bending, every robot's hand gets near the table.
+  std::vector<int> joints;
+  std::vector<double> lower, upper;
+  for (const char* name : {"torso", "left_arm"}) {
+    const ChainIndex& c = scene->chain(name);
+    joints.insert(joints.end(), c.joints.begin(), c.joints.end());
+    lower.insert(lower.end(), c.lower.begin(), c.lower.end());
+    upper.insert(upper.end(), c.upper.begin(), c.upper.end());
+  }
+  const double radius = 0.25;
+  PlanOptions options;
+  options.time_limit_s = 10;
+  const double wanted = options.clearance_m;
+  core::PlanningProblem spacing;  // the planner's check spacing for this chain
+  spacing.lower = lower;
+  spacing.upper = upper;
+  spacing.motion_resolution = options.motion_resolution;
+  spacing.fine_radius = radius;
+  spacing.fine_resolution = options.motion_resolution / 5;
+  auto set = [&](const std::vector<double>& q) {
+    for (size_t i = 0; i < q.size(); ++i)
+      worker.data()->qpos[worker.model()->jnt_qposadr[joints[i]]] = q[i];
+  };
+  auto max_abs_diff = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double e = 0;
+    for (size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
+    return e;
+  };
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(0, 1);
+  auto draw = [&] {
+    std::vector<double> q(joints.size());
+    for (size_t i = 0; i < q.size(); ++i) q[i] = lower[i] + (upper[i] - lower[i]) * u(rng);
+    return q;
+  };
+  int problems = 0, checked = 0, short_of = 0, ramp_states = 0;
+  std::string worst;
+  double worst_ratio = INFINITY;
+  for (int k = 0; k < 40000 && problems < 8; ++k) {
+    const std::vector<double> start = draw();
+    const std::vector<double> goal = draw();
+    {
+      ValidityChecker checker(*scene, worker.model(), worker.data(), joints);
+      if (checker.in_collision(start.data()) || checker.in_collision(goal.data())) continue;
+      // A start within 2 mm of the world, a goal a centimetre or more off it.
+      if (checker.distance_to_world(start.data(), wanted) > 0.002) continue;
+      if (checker.distance_to_world(goal.data(), wanted) < wanted) continue;
+    }
+    worker.reset_to_start();
+    set(start);
+    MotionPlanner planner(*scene, worker, joints);
+    options.seed = static_cast<std::uint32_t>(problems + 1);
+    const core::PlanResult r = planner.plan({goal}, options);
+    if (r.status != core::PlanStatus::kExactSolution) continue;
+    ++problems;
+    spacing.start = start;
+    spacing.goals = {goal};
+    ValidityChecker checker(*scene, worker.model(), worker.data(), joints);
+    for (size_t w = 0; w + 1 < r.path.size(); ++w) {
+      const std::vector<double>& a = r.path[w];
+      const std::vector<double>& b = r.path[w + 1];
+      std::vector<double> ts = core::motion_check_points(spacing, a.data(), b.data());
+      ts.push_back(1);
+      for (double t : ts) {
+        std::vector<double> q(a.size());
+        for (size_t i = 0; i < q.size(); ++i) q[i] = a[i] + t * (b[i] - a[i]);
+        const double from_end = std::min(max_abs_diff(q, start), max_abs_diff(q, goal));
+        const double needed = wanted * std::min(from_end, radius) / radius;
+        const double have = checker.distance_to_world(q.data(), wanted);
+        ++checked;
+        if (from_end < radius) ++ramp_states;
+        if (have < needed - 1e-4) ++short_of;
+        if (needed > 1e-3 && have / needed < worst_ratio) {
+          worst_ratio = have / needed;
+          worst = std::to_string(have * 1000) + " mm at " + std::to_string(from_end) +
+                  " rad from an end";
+        }
+      }
+    }
+    worker.reset_to_start();
+  }
+  ASSERT_EQ(problems, 8);
+  EXPECT_GT(ramp_states, 100);
+  EXPECT_EQ(short_of, 0) << "of " << checked << " checked states; least clearance for what was "
+                         << "asked: " << worst;
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, PlanOnBothRobots, ::testing::Values("tallbot", "minibot"));
 
 class IkOnBothRobots : public ::testing::TestWithParam<std::string> {};
