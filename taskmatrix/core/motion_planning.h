@@ -47,10 +47,11 @@ struct PlanningProblem {
   // of the bounds box, OMPL's convention) apart along the straight line are: motion_valid().
   double motion_resolution = 0.005;
   // Where is_valid lets states come closer to obstacles (near the start and the goals, where a
-  // hand starts beside or ends next to something), motions are checked more finely: parts of
-  // a motion within fine_radius (rad or m, every joint) of the start or a goal have states at
-  // most fine_resolution x the extent apart. fine_resolution 0 (or not below
-  // motion_resolution): no finer checks.
+  // hand starts beside or ends next to something), motions are checked more finely: the
+  // steps of a motion (motion_resolution apart) that begin or end within fine_radius (rad or
+  // m, every joint) of the start or a goal have states at most fine_resolution x the extent
+  // apart (at most 2^20 per step). fine_resolution 0 (or not below motion_resolution): no
+  // finer checks.
   double fine_radius = 0;
   double fine_resolution = 0;
   // The planner's budget: > 0: at most this many iterations (evaluations of the termination
@@ -142,7 +143,7 @@ inline std::vector<double> motion_check_points(const PlanningProblem& p, const d
     const double t0 = static_cast<double>(k - 1) / segments;
     const double t1 = static_cast<double>(k) / segments;
     if (fine_step > 0 && (near_at(t0) || near_at(t1))) {
-      const int sub = static_cast<int>(std::ceil(d / segments / fine_step));
+      const int sub = static_cast<int>(std::min(std::ceil(d / segments / fine_step), 1048576.0));
       for (int j = 1; j < sub; ++j) points.push_back(t0 + (t1 - t0) * j / sub);
     }
     if (k < segments) points.push_back(t1);

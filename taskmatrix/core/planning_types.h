@@ -71,7 +71,8 @@ struct PlanOptions {
   double clearance_m = 0.01;
   std::uint32_t seed = 1;  // > 0
   // Objects (symbolic names) the start may touch, a few millimetres deep: what a hand let go
-  // of, what a reaching hand brushes. Paths leave them within the endpoint radius.
+  // of, what a reaching hand brushes. Paths leave them within the endpoint radius (where a
+  // start that touches them needs no clearance at all, only no deeper contact).
   std::vector<std::string> may_touch;
 };
 

@@ -135,8 +135,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   // grasp): there the clearance asked for grows from nothing at the endpoint to o.clearance_m
   // at the radius, so a path leaves an endpoint's surroundings instead of sliding along them.
   // Without it, simplified paths graze obstacles and execution, which tracks the path only to
-  // within a few millimetres (more while the arm speeds up or slows down near the ends),
-  // touches them.
+  // within a few millimetres, touches them.
   auto distance_from = [&](const double* v, const std::vector<double>& e) {
     double dist = 0;
     for (size_t i = 0; i < n; ++i) dist = std::max(dist, std::abs(v[i] - e[i]));
@@ -145,13 +144,14 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   auto near = [&](const double* v, const std::vector<double>& e) {
     return distance_from(v, e) <= kEndpointRadius;
   };
+  core::PlanningProblem problem;
   auto endpoint_distance = [&](const double* v) {
     double dist = distance_from(v, start);
-    for (const auto& g : goals) dist = std::min(dist, distance_from(v, g));
+    // The goals planned to (problem.goals, filled below), not those dropped as invalid.
+    for (const auto& g : problem.goals) dist = std::min(dist, distance_from(v, g));
     return dist;
   };
   const double clearance = o.clearance_m;
-  core::PlanningProblem problem;
   for (size_t i = 0; i < n; ++i) {
     const char* joint = mj_id2name(m, mjOBJ_JOINT, joints_[i]);
     problem.joint_names.push_back(joint ? joint : "");
