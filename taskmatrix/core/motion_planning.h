@@ -139,14 +139,18 @@ inline std::vector<double> motion_check_points(const PlanningProblem& p, const d
     for (size_t i = 0; i < n; ++i) q[i] = a[i] + t * (b[i] - a[i]);
     return near_endpoint(p, q.data());
   };
+  // Whether each step's ends are near an endpoint, each state tested once.
+  bool near0 = fine_step > 0 && near_at(0);
   for (int k = 1; k <= segments; ++k) {
     const double t0 = static_cast<double>(k - 1) / segments;
     const double t1 = static_cast<double>(k) / segments;
-    if (fine_step > 0 && (near_at(t0) || near_at(t1))) {
+    const bool near1 = fine_step > 0 && near_at(t1);
+    if (near0 || near1) {
       const int sub = static_cast<int>(std::min(std::ceil(d / segments / fine_step), 1048576.0));
       for (int j = 1; j < sub; ++j) points.push_back(t0 + (t1 - t0) * j / sub);
     }
     if (k < segments) points.push_back(t1);
+    near0 = near1;
   }
   return points;
 }
