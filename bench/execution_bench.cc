@@ -5,7 +5,8 @@
 //   BM_ControlPeriod_Skillset  MujocoSkillset::command + advance in each execution mode:
 //     /physics            computed-torque feed-forward per step, mj_step2 then mj_step1 so
 //                         poses and contacts are current for the programs, contact pruning
-//                         (large static boxes closed, resting objects asleep)
+//                         (static geoms nothing movable is near closed, resting objects
+//                         asleep)
 //     /physics_unpruned   the same without contact pruning
 //     /kinematic          the commanded configuration set, kinematics, the robot's contacts
 //   counters: contacts_per_pass (contacts per collision detection: per timestep in physics,

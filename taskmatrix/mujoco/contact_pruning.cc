@@ -26,15 +26,16 @@ ContactPruning::ContactPruning(const Scene& scene, const mjModel* m, ContactPrun
   }
   std::vector<int> tree_of_root(m->nbody, -1);
   for (int g = 0; g < m->ngeom; ++g) {
-    if (!contype_[g] && !conaffinity_[g]) continue;
     const int body = m->geom_bodyid[g];
     if (m->body_weldid[body] == 0) {  // static
-      if (options_.gate_large_static_boxes && !slot_geom[g] && m->geom_type[g] == mjGEOM_BOX &&
-          m->geom_rbound[g] >= kLargeBoxRadiusM) {
-        boxes_.push_back({g});
-      }
+      // Obstacle slots are gated whatever their compiled bits: a layout switches them on.
+      const bool collides = contype_[g] || conaffinity_[g] || slot_geom[g];
+      const bool bounded = m->geom_type[g] != mjGEOM_PLANE && m->geom_type[g] != mjGEOM_HFIELD &&
+                           m->geom_rbound[g] > 0;
+      if (options_.gate_static_geoms && collides && bounded) statics_.push_back({g});
       continue;
     }
+    if (!contype_[g] && !conaffinity_[g]) continue;
     const int root = m->body_rootid[body];
     if (tree_of_root[root] < 0) {
       tree_of_root[root] = static_cast<int>(trees_.size());
@@ -46,11 +47,14 @@ ContactPruning::ContactPruning(const Scene& scene, const mjModel* m, ContactPrun
         t.qpos = m->jnt_qposadr[m->body_jntadr[root]];
         t.dof = m->jnt_dofadr[m->body_jntadr[root]];
       }
+      t.scripted = !t.free_object && !scene.is_robot_body(root);
       trees_.push_back(t);
     }
     trees_[tree_of_root[root]].geoms.push_back(g);
   }
   rest_steps_needed_ = std::max(1, static_cast<int>(std::lround(kRestTimeS / m->opt.timestep)));
+  static_check_steps_ =
+      std::max(1, static_cast<int>(std::floor(kStaticCheckS / m->opt.timestep + 1e-9)));
 }
 
 void ContactPruning::set_bits(mjModel* m, int geom, bool on) const {
@@ -104,12 +108,17 @@ void ContactPruning::begin(mjModel* m) {
   if (holds_applied_) {
     apply_holds(m);
     for (int g = 0; g < m->ngeom; ++g) set_bits(m, g, true);
+  } else {
+    for (const StaticGeom& s : statics_) {  // as the layout left them
+      open_contype_[s.geom] = m->geom_contype[s.geom];
+      open_conaffinity_[s.geom] = m->geom_conaffinity[s.geom];
+    }
   }
   for (const Tree& t : trees_) {
     if (t.asleep) set_tree_bits(m, t, false);
   }
-  for (const Box& b : boxes_) {
-    if (b.closed) set_bits(m, b.geom, false);
+  for (const StaticGeom& s : statics_) {
+    if (s.closed) set_bits(m, s.geom, false);
   }
 }
 
@@ -125,7 +134,7 @@ void ContactPruning::end(mjModel* m) {
   for (const Tree& t : trees_) {
     if (t.asleep) set_tree_bits(m, t, true);
   }
-  for (const Box& b : boxes_) set_bits(m, b.geom, true);
+  for (const StaticGeom& s : statics_) set_bits(m, s.geom, true);
 }
 
 void ContactPruning::wake_all() {
@@ -133,7 +142,8 @@ void ContactPruning::wake_all() {
     t.asleep = false;
     t.rest_steps = 0;
   }
-  for (Box& b : boxes_) b.closed = false;
+  for (StaticGeom& s : statics_) s.closed = false;
+  static_countdown_ = 0;
 }
 
 void ContactPruning::set_held(int body, bool held, const std::vector<int>& hand_bodies) {
@@ -154,9 +164,9 @@ int ContactPruning::sleeping() const {
       std::count_if(trees_.begin(), trees_.end(), [](const Tree& t) { return t.asleep; }));
 }
 
-int ContactPruning::closed_boxes() const {
-  return static_cast<int>(
-      std::count_if(boxes_.begin(), boxes_.end(), [](const Box& b) { return b.closed; }));
+int ContactPruning::closed_static_geoms() const {
+  return static_cast<int>(std::count_if(statics_.begin(), statics_.end(),
+                                        [](const StaticGeom& s) { return s.closed; }));
 }
 
 void ContactPruning::bound(Tree& t, const mjData* d) const {
@@ -169,12 +179,13 @@ void ContactPruning::bound(Tree& t, const mjData* d) const {
 }
 
 bool ContactPruning::something_near(const double* c, double r, const Tree* except,
-                                    const mjData* d) const {
+                                    const mjData* d, double allowance, bool coarse) const {
   for (const Tree& t : trees_) {
     if (&t == except || t.asleep) continue;
-    if (mju_dist3(t.center, c) > t.radius + r + kStepAllowanceM) continue;
+    if (mju_dist3(t.center, c) > t.radius + r + allowance) continue;
+    if (coarse && t.scripted) return true;
     for (int g : t.geoms) {
-      if (mju_dist3(d->geom_xpos + 3 * g, c) <= rbound_[g] + margin_[g] + r + kStepAllowanceM) {
+      if (mju_dist3(d->geom_xpos + 3 * g, c) <= rbound_[g] + margin_[g] + r + allowance) {
         return true;
       }
     }
@@ -182,14 +193,22 @@ bool ContactPruning::something_near(const double* c, double r, const Tree* excep
   return false;
 }
 
-bool ContactPruning::box_needed(const mjModel* m, int box, const mjData* d) const {
+bool ContactPruning::static_geom_needed(const mjModel* m, int geom, const mjData* d) const {
+  if (m->geom_type[geom] != mjGEOM_BOX) {
+    return something_near(d->geom_xpos + 3 * geom, m->geom_rbound[geom] + m->geom_margin[geom],
+                          nullptr, d, kStaticAllowanceM, true);
+  }
+  const int box = geom;
   for (const Tree& t : trees_) {
     if (t.asleep) continue;
-    if (sphere_clear_of_box(m, d, box, t.center, t.radius + margin_[box] + kStepAllowanceM)) {
+    if (sphere_clear_of_box(m, d, box, t.center,
+                            t.radius + m->geom_margin[box] + kStaticAllowanceM)) {
       continue;
     }
+    if (t.scripted) return true;
     for (int g : t.geoms) {
-      const double reach = rbound_[g] + std::max(margin_[g], margin_[box]) + kStepAllowanceM;
+      const double reach =
+          rbound_[g] + std::max(margin_[g], m->geom_margin[box]) + kStaticAllowanceM;
       if (!sphere_clear_of_box(m, d, box, d->geom_xpos + 3 * g, reach)) return true;
     }
   }
@@ -200,17 +219,24 @@ void ContactPruning::before_collision(mjModel* m, const mjData* d) {
   for (Tree& t : trees_) {
     if (!t.asleep) bound(t, d);
   }
+  bool woke = false;
   for (Tree& t : trees_) {
     if (!t.asleep || !something_near(t.center, t.radius, &t, d)) continue;
     t.asleep = false;
     t.rest_steps = 0;
     if (active_) set_tree_bits(m, t, true);
     bound(t, d);
+    woke = true;
   }
-  for (Box& b : boxes_) {
-    const bool closed = !box_needed(m, b.geom, d);
-    if (closed != b.closed && active_) set_bits(m, b.geom, !closed);
-    b.closed = closed;
+  // What was decided at the last check holds while nothing has moved kStaticAllowanceM since:
+  // again after kStaticCheckS, or at once when an object wakes (it may rest on a closed geom).
+  if (--static_countdown_ > 0 && !woke) return;
+  static_countdown_ = static_check_steps_;
+  for (StaticGeom& s : statics_) {
+    if (!open_contype_[s.geom] && !open_conaffinity_[s.geom]) continue;  // an unused slot
+    const bool closed = !static_geom_needed(m, s.geom, d);
+    if (closed != s.closed && active_) set_bits(m, s.geom, !closed);
+    s.closed = closed;
   }
 }
 

@@ -1,13 +1,20 @@
 // What the physics need not compute, on one worker's model: contacts that cannot occur, and
 // contacts of objects that lie still while nothing comes near them.
 //
-//   - Large static boxes (a room's walls, a window: boxes on bodies welded to the world whose
-//     bounding sphere has a radius of at least kLargeBoxRadiusM) pass MuJoCo's bounding-sphere
-//     test against nearly every geom, and each pass costs a narrow-phase call. While no movable
-//     geom's bounding sphere comes within the pair's margin plus kStepAllowanceM of the box
-//     itself (its oriented box), the box's collision bits are cleared, so MuJoCo skips it.
-//     Exact: MuJoCo's narrow phase finds no contact there either, as long as nothing moves more
-//     than kStepAllowanceM in one timestep (25 m/s at a 2 ms timestep).
+//   - Static geoms (on bodies welded to the world: a room's walls and window, furniture,
+//     obstacles; not planes or height fields, which have no bounding sphere) that no movable
+//     geom comes near cost every step: MuJoCo's broadphase pairs every body whose bounding box
+//     overlaps another's (furniture with the obstacles standing by it, the world's own geoms
+//     with every body) and visits each pair of their geoms. While no movable geom's bounding
+//     sphere comes within the pair's margins plus kStaticAllowanceM of a static geom (of its
+//     oriented box for boxes, of its bounding sphere otherwise), the static geom's collision
+//     bits are cleared, so MuJoCo skips it, and a body left with no collidable geom leaves the
+//     broadphase. Checked every kStaticCheckS of simulated time, and at once when an object
+//     wakes. Exact: MuJoCo's own bounding-sphere test rejects every such pair, as long as
+//     nothing moves more than kStaticAllowanceM in kStaticCheckS (10 m/s).
+//     Static geoms are tested against each other by nobody (MuJoCo filters pairs on one weld
+//     body), so only movable geoms count; a scripted body (the visitor, whose heading is set
+//     and turns about its root at the ends of its walk) counts by its bounding sphere.
 //   - Free objects at rest (under kRestSpeed and kRestAngularSpeed for kRestTimeS) that nothing
 //     movable comes near (bounding spheres within kStepAllowanceM plus margins) are put to
 //     sleep: their collision bits are cleared and they are held exactly where they are. They
@@ -24,7 +31,8 @@
 //     included. Exact for every other pair.
 //
 // Bits are cleared only between begin() and end(), while the simulation steps: queries (IK,
-// validity, planning) always see the model as compiled.
+// validity, planning) always see the model as it was before begin() (as compiled, with the
+// layout's obstacle slots and the variation's furniture applied).
 #pragma once
 
 #include <vector>
@@ -33,14 +41,15 @@
 
 namespace taskmatrix::mujoco {
 
-inline constexpr double kLargeBoxRadiusM = 0.5;
-inline constexpr double kStepAllowanceM = 0.05;
+inline constexpr double kStepAllowanceM = 0.05;    // per timestep (resting objects)
+inline constexpr double kStaticAllowanceM = 0.1;   // per kStaticCheckS (static geoms)
+inline constexpr double kStaticCheckS = 0.01;
 inline constexpr double kRestSpeed = 0.005;        // m/s
 inline constexpr double kRestAngularSpeed = 0.05;  // rad/s
 inline constexpr double kRestTimeS = 0.1;
 
 struct ContactPruningOptions {
-  bool gate_large_static_boxes = true;
+  bool gate_static_geoms = true;
   bool sleep_resting_objects = true;
 };
 
@@ -53,20 +62,24 @@ class ContactPruning {
   void begin(mjModel* m);
   void end(mjModel* m);
   // Before each collision detection (mj_step1), with the geom poses of the previous step:
-  // wakes objects something movable approaches, and opens or closes the large static boxes.
+  // wakes objects something movable approaches, and opens or closes the static geoms.
   void before_collision(mjModel* m, const mjData* d);
   // After each integration (mj_step2): holds sleeping objects still, and puts objects that have
   // rested long enough with nothing near to sleep.
   void after_integration(mjModel* m, mjData* d);
-  // Every object awake and every box open (after a reset, a teleport, an attachment). Call
+  // Every object awake and every static geom open (after a reset, a teleport, an attachment,
+  // a new layout). Call
   // outside begin()/end().
   void wake_all();
+  // The next before_collision() decides every static geom afresh (before stepping from a
+  // state the simulation jumped to, as a settle does). Call outside begin()/end().
+  void recheck_static_geoms() { static_countdown_ = 0; }
   // A held object moves with its holder: it never sleeps, and it does not collide with
   // `hand_bodies` (the bodies of the hand holding it) while held. Call outside begin()/end().
   void set_held(int body, bool held, const std::vector<int>& hand_bodies = {});
 
   int sleeping() const;
-  int closed_boxes() const;
+  int closed_static_geoms() const;
 
  private:
   struct Tree {  // a movable body tree: the robot, the visitor, a free object
@@ -76,25 +89,32 @@ class ContactPruning {
     int qpos = -1, dof = -1;  // free objects: their free joint's addresses
     bool held = false;
     bool asleep = false;
+    // Scripted (the visitor): its pose is set, not integrated, and may turn about its root in
+    // one step, so static geoms test its bounding sphere, never its geoms.
+    bool scripted = false;
     int rest_steps = 0;
     double center[3] = {0, 0, 0}, radius = 0;  // bounding sphere of the collidable geoms
     double sleep_qpos[7] = {0, 0, 0, 0, 0, 0, 0};
   };
-  struct Box {
+  struct StaticGeom {
     int geom;
     bool closed = false;
   };
   void bound(Tree& t, const mjData* d) const;
   // Whether any movable geom of an awake tree other than `except` comes within `extra` of the
   // sphere (c, r).
-  bool something_near(const double* c, double r, const Tree* except, const mjData* d) const;
-  bool box_needed(const mjModel* m, int box, const mjData* d) const;
+  // `coarse`: a scripted tree's bounding sphere alone decides.
+  bool something_near(const double* c, double r, const Tree* except, const mjData* d,
+                      double allowance = kStepAllowanceM, bool coarse = false) const;
+  // Whether a movable geom of an awake tree comes near the static geom (the model's size,
+  // bounding radius and pose as they are: layouts and variations change them).
+  bool static_geom_needed(const mjModel* m, int geom, const mjData* d) const;
   void set_bits(mjModel* m, int geom, bool on) const;
   void set_tree_bits(mjModel* m, const Tree& t, bool on) const;
 
   ContactPruningOptions options_;
   std::vector<Tree> trees_;
-  std::vector<Box> boxes_;
+  std::vector<StaticGeom> statics_;
   // Saves the model's bits and computes open_contype_ and open_conaffinity_ from them and the
   // holds.
   void apply_holds(const mjModel* m);
@@ -107,10 +127,13 @@ class ContactPruning {
   bool holds_applied_ = false;              // between begin() and end()
   std::vector<int> hold_bits_;              // free collision bits, one per simultaneous hold
   std::vector<int> contype_, conaffinity_;  // as compiled, per geom
-  std::vector<int> open_contype_, open_conaffinity_;    // on: with the holds applied
+  // on: with the holds applied; a static geom's are its bits at begin()
+  std::vector<int> open_contype_, open_conaffinity_;
   std::vector<int> saved_contype_, saved_conaffinity_;  // at begin(), while holding
   std::vector<double> margin_, rbound_;
   int rest_steps_needed_ = 1;
+  int static_check_steps_ = 1;  // kStaticCheckS in timesteps
+  int static_countdown_ = 0;    // steps to the next check of the static geoms
   bool active_ = false;  // between begin() and end()
 };
 

@@ -169,9 +169,23 @@ std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& enviro
   global->SetAttribute("offheight",
                        std::max(global->IntAttribute("offheight"), options.offscreen_height));
 
+  // Each geom placed directly in the world (a room's floor, walls, window) goes on a static
+  // body of its own, unnamed, with the world's frame: the same geom, pose and collisions. MuJoCo
+  // pairs the world body with every other body and then visits each pair of their geoms, so
+  // seven room geoms on the world body cost seven geom pairs per geom of every body at every
+  // step; on bodies of their own the walls leave the broadphase while the physics' contact
+  // pruning closes them, and a floor plane is visited once per geom.
+  XMLElement* world = composer.section("worldbody");
+  for (XMLElement* geom = world->FirstChildElement("geom"); geom;) {
+    XMLElement* next = geom->NextSiblingElement("geom");
+    XMLElement* body = composer.doc().NewElement("body");
+    world->InsertAfterChild(geom, body);
+    body->InsertEndChild(geom);
+    geom = next;
+  }
+
   // Reserved obstacle slots: static bodies, one geom per shape, all disabled (no collision,
   // hidden in geom group 3) until a layout enables one.
-  XMLElement* world = composer.section("worldbody");
   for (int slot = 0; slot < options.obstacle_slots; ++slot) {
     XMLElement* body = composer.doc().NewElement("body");
     body->SetAttribute("name", obstacle_body_name(slot).c_str());

@@ -733,7 +733,13 @@ void MujocoSkillset::settle_objects(const std::vector<int>& bodies) {
   auto settled = [&] {
     return std::all_of(at_rest.begin(), at_rest.end(), [&](int n) { return n >= rest_needed; });
   };
+  // Static geoms nothing movable comes near are closed, as in physics execution (exact; the
+  // robot counts as movable though it cannot touch anything here), decided afresh for where
+  // the objects are now.
+  pruning_.recheck_static_geoms();
+  pruning_.begin(m);
   for (int s = 0; s < steps && !settled(); ++s) {
+    pruning_.before_collision(m, d);
     mj_step(m, d);
     for (int i = 0; i < m->nq; ++i) {
       if (!free_qpos[i]) d->qpos[i] = qpos[i];
@@ -752,6 +758,7 @@ void MujocoSkillset::settle_objects(const std::vector<int>& bodies) {
       at_rest[k] = touching && slow ? at_rest[k] + 1 : 0;
     }
   }
+  pruning_.end(m);
   for (const auto& [g, contype, conaffinity] : robot_bits) {
     m->geom_contype[g] = contype;
     m->geom_conaffinity[g] = conaffinity;

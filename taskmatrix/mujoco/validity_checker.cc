@@ -228,6 +228,110 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
   }
 }
 
+void ValidityChecker::group_changing_pairs() {
+  const mjModel* m = m_;
+  const mjData* d = d_;
+  grouped_ = true;
+  std::vector<int> local(m->nbody, -1);  // moving body -> its index among moving_bodies_
+  for (size_t i = 0; i < moving_bodies_.size(); ++i) local[moving_bodies_[i]] = static_cast<int>(i);
+  // (moving body, fixed body) -> group
+  std::vector<int> group_of(moving_bodies_.size() * static_cast<size_t>(m->nbody), -1);
+  struct Box {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  };
+  std::vector<Box> fixed_box;  // per group: the fixed geoms' spheres' bounding box
+  auto sides = [&](const GeomPair& p, int& gm, int& gf) {
+    const bool first_moves = local[m->geom_bodyid[p.g1]] >= 0;
+    gm = first_moves ? p.g1 : p.g2;
+    gf = first_moves ? p.g2 : p.g1;
+  };
+  std::vector<int> group_of_pair(changing_pairs_.size(), -1);
+  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+    const GeomPair& p = changing_pairs_[k];
+    const bool bounded = m->geom_rbound[p.g1] > 0 && m->geom_rbound[p.g2] > 0;
+    const bool both_move =
+        local[m->geom_bodyid[p.g1]] >= 0 && local[m->geom_bodyid[p.g2]] >= 0;
+    if (!bounded || both_move) {
+      ungrouped_pairs_.push_back(static_cast<int>(k));
+      continue;
+    }
+    int gm, gf;
+    sides(p, gm, gf);
+    const int bm = m->geom_bodyid[gm];
+    int& gi = group_of[static_cast<size_t>(local[bm]) * m->nbody + m->geom_bodyid[gf]];
+    if (gi < 0) {
+      gi = static_cast<int>(pair_groups_.size());
+      PairGroup g;
+      g.moving_body = bm;
+      g.radius = 0;
+      g.margin = 0;
+      g.with_world = false;
+      pair_groups_.push_back(g);
+      fixed_box.emplace_back();
+    }
+    group_of_pair[k] = gi;
+    PairGroup& g = pair_groups_[gi];
+    g.pairs.push_back(static_cast<int>(k));
+    g.margin = std::max(g.margin, p.margin);
+    g.with_world = g.with_world || changing_pair_with_world_[k];
+    // The moving side's radius about its body's origin (rigid: the same at every check).
+    g.radius = std::max(g.radius, mju_dist3(d->geom_xpos + 3 * gm, d->xpos + 3 * bm) +
+                                      m->geom_rbound[gm]);
+    Box& b = fixed_box[gi];
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::min(b.lo[a], d->geom_xpos[3 * gf + a] - m->geom_rbound[gf]);
+      b.hi[a] = std::max(b.hi[a], d->geom_xpos[3 * gf + a] + m->geom_rbound[gf]);
+    }
+  }
+  // The fixed side's sphere: centred on that box, holding every fixed geom's sphere.
+  for (size_t i = 0; i < pair_groups_.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      pair_groups_[i].fixed_center[a] = 0.5 * (fixed_box[i].lo[a] + fixed_box[i].hi[a]);
+    }
+  }
+  std::vector<double> fixed_radius(pair_groups_.size(), 0.0);
+  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+    const int gi = group_of_pair[k];
+    if (gi < 0) continue;
+    int gm, gf;
+    sides(changing_pairs_[k], gm, gf);
+    fixed_radius[gi] =
+        std::max(fixed_radius[gi], mju_dist3(d->geom_xpos + 3 * gf, pair_groups_[gi].fixed_center) +
+                                       m->geom_rbound[gf]);
+  }
+  for (size_t i = 0; i < pair_groups_.size(); ++i) pair_groups_[i].radius += fixed_radius[i];
+}
+
+bool ValidityChecker::group_near(const PairGroup& g, double extra) const {
+  const double* c = d_->xpos + 3 * g.moving_body;
+  const double dx = c[0] - g.fixed_center[0], dy = c[1] - g.fixed_center[1],
+               dz = c[2] - g.fixed_center[2];
+  const double bound = g.radius + g.margin + (g.with_world ? extra : 0.0);
+  return dx * dx + dy * dy + dz * dz <= bound * bound;
+}
+
+template <class Hit>
+bool ValidityChecker::any_changing_pair(double extra, Hit hit) {
+  // Grouping costs about as much as a few checks: a checker used once visits every pair.
+  if (!grouped_ && ++ungrouped_checks_ >= 2) group_changing_pairs();
+  if (!grouped_) {
+    for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+      if (hit(k)) return true;
+    }
+    return false;
+  }
+  for (int k : ungrouped_pairs_) {
+    if (hit(static_cast<size_t>(k))) return true;
+  }
+  for (const PairGroup& g : pair_groups_) {
+    if (!group_near(g, extra)) continue;
+    for (int k : g.pairs) {
+      if (hit(static_cast<size_t>(k))) return true;
+    }
+  }
+  return false;
+}
+
 void ValidityChecker::place_attached(const Attachment& a) {
   const mjModel* m = m_;
   mjData* d = d_;
@@ -322,9 +426,10 @@ bool ValidityChecker::begin_check(const double* values, bool count) {
 
 bool ValidityChecker::in_collision(const double* values, bool count) {
   if (!begin_check(values, count)) return true;
-  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
-    if (pair_in_contact(changing_pairs_[k], changing_pair_tolerance_[k])) return true;
-  }
+  const bool hit = any_changing_pair(0.0, [&](size_t k) {
+    return pair_in_contact(changing_pairs_[k], changing_pair_tolerance_[k]);
+  });
+  if (hit) return true;
   for (const AttachedPair& p : attached_pairs_) {
     if (pair_in_contact(p.pair, p.tolerance)) return true;
   }
@@ -333,14 +438,12 @@ bool ValidityChecker::in_collision(const double* values, bool count) {
 
 bool ValidityChecker::within_margin(const double* values, double margin_m, bool count) {
   if (!begin_check(values, count)) return true;
-  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+  const bool hit = any_changing_pair(std::max(0.0, margin_m), [&](size_t k) {
     const GeomPair& p = changing_pairs_[k];
-    if (changing_pair_tolerance_[k] > 0) {
-      if (pair_in_contact(p, changing_pair_tolerance_[k])) return true;
-      continue;
-    }
-    if (collide(p, changing_pair_with_world_[k] ? p.margin + margin_m : p.margin) > 0) return true;
-  }
+    if (changing_pair_tolerance_[k] > 0) return pair_in_contact(p, changing_pair_tolerance_[k]);
+    return collide(p, changing_pair_with_world_[k] ? p.margin + margin_m : p.margin) > 0;
+  });
+  if (hit) return true;
   for (const AttachedPair& p : attached_pairs_) {
     if (p.tolerance > 0 ? pair_in_contact(p.pair, p.tolerance)
                         : collide(p.pair, p.pair.margin + margin_m) > 0) {

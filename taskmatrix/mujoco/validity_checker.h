@@ -132,6 +132,32 @@ class ValidityChecker {
   std::vector<GeomPair> changing_pairs_;
   std::vector<char> changing_pair_with_world_;   // per changing pair: one geom is not the robot's
   std::vector<double> changing_pair_tolerance_;  // per changing pair: allowed penetration
+  // The changing pairs as the checks visit them: pairs of a moving body's geoms with the geoms
+  // of one body that does not move are grouped, and a group whose two bounding spheres (the
+  // moving body's about its origin, the other body's fixed for the checker's life) are farther
+  // apart than its largest margin is skipped whole, as each of its pairs' own bounding-sphere
+  // test would skip it. The other pairs (both bodies moving, a plane) are visited one by one.
+  struct PairGroup {
+    int moving_body;
+    double fixed_center[3];
+    double radius;      // both spheres' radii
+    double margin;      // the largest pair margin
+    bool with_world;    // some pair gets the planning margin
+    std::vector<int> pairs;  // indices into changing_pairs_
+  };
+  std::vector<int> ungrouped_pairs_;
+  std::vector<PairGroup> pair_groups_;
+  bool grouped_ = false;     // pair_groups_ built (at the second check)
+  int ungrouped_checks_ = 0;
+  // Needs the bound state's poses: the fixed geoms', and the moving geoms' offsets from their
+  // bodies (either configuration serves: the offsets are rigid).
+  void group_changing_pairs();
+  // Whether the group's spheres come within its margin (plus `extra` if it has world pairs).
+  bool group_near(const PairGroup& group, double extra) const;
+  // Visits the changing pairs; true as soon as `hit(k)` is for pair k. `extra`: the planning
+  // margin world pairs get.
+  template <class Hit>
+  bool any_changing_pair(double extra, Hit hit);
   std::vector<Attachment> attachments_;
   std::vector<size_t> moving_attachments_;    // indices into attachments_
   std::vector<AttachedPair> attached_pairs_;  // pairs that move with moving attachments

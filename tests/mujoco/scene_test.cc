@@ -118,6 +118,45 @@ TEST_P(EveryRobotInEveryEnvironment, ProfileMatchesTheModel) {
   EXPECT_GE(scene->environment().visitor.path.size(), 2u);
 }
 
+// The geoms an environment places directly in the world (floor, walls, window) stand on static
+// bodies of their own in the composed model, one geom each, where the file put them.
+TEST_P(EveryRobotInEveryEnvironment, TheWorldsOwnGeomsStandOnStaticBodiesOfTheirOwn) {
+  auto scene = test::scene(GetParam().robot, GetParam().environment);
+  const mjModel* m = scene->model();
+  EXPECT_EQ(m->body_geomnum[0], 0) << "geoms left on the world body";
+  char error[500] = "";
+  mjModel* alone = mj_loadXML(scene->environment().model_file.c_str(), nullptr, error, 500);
+  ASSERT_NE(alone, nullptr) << error;
+  mjData* d_alone = mj_makeData(alone);
+  mj_kinematics(alone, d_alone);
+  WorkerScene worker(scene);
+  const mjData* d = worker.data();
+  int checked = 0;
+  for (int g = 0; g < alone->body_geomnum[0]; ++g) {
+    const int ga = alone->body_geomadr[0] + g;
+    const char* name = mj_id2name(alone, mjOBJ_GEOM, ga);
+    if (!name) continue;  // found again by name only
+    const int gc = mj_name2id(m, mjOBJ_GEOM, name);
+    ASSERT_GE(gc, 0) << name;
+    const int b = m->geom_bodyid[gc];
+    EXPECT_NE(b, 0) << name;
+    EXPECT_EQ(m->body_weldid[b], 0) << name << " is not static";
+    EXPECT_EQ(m->body_geomnum[b], 1) << name;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(d->geom_xpos[3 * gc + i], d_alone->geom_xpos[3 * ga + i], 1e-12) << name;
+    }
+    for (int i = 0; i < 9; ++i) {
+      EXPECT_NEAR(d->geom_xmat[9 * gc + i], d_alone->geom_xmat[9 * ga + i], 1e-12) << name;
+    }
+    EXPECT_EQ(m->geom_contype[gc], alone->geom_contype[ga]) << name;
+    EXPECT_EQ(m->geom_conaffinity[gc], alone->geom_conaffinity[ga]) << name;
+    ++checked;
+  }
+  EXPECT_GE(checked, 1) << "no named geom in the world of " << GetParam().environment;
+  mj_deleteData(d_alone);
+  mj_deleteModel(alone);
+}
+
 INSTANTIATE_TEST_SUITE_P(Models, EveryRobotInEveryEnvironment,
                          ::testing::ValuesIn(test::all_robot_environment_pairs()),
                          [](const auto& p) { return test::pair_name(p.param); });

@@ -80,6 +80,39 @@ TEST(ValidityChecker, SameVerdictsOnTheCompactRobotsAndTheOffice) {
   }
 }
 
+// A checker visits its pairs one by one at its first check and skips a far body's geoms in
+// one test from its second (validity_checker.h): both must give the same verdicts, with and
+// without a planning margin, here against a fresh checker's first check of each state.
+TEST(ValidityChecker, AFarBodysGeomsSkippedTogetherGiveTheSameVerdicts) {
+  for (const char* robot : {"tallbot", "minibot"}) {
+    auto scene = test::scene(robot, "kitchen");
+    WorkerScene worker(scene);
+    worker.apply_layout(core::generate_layout(scene->layout_request(20), 7));
+    worker.reset_to_start();
+    const Sampler sampler(*scene, {"base", "torso", "left_arm", "right_arm"});
+    ValidityChecker warm(*scene, worker.model(), worker.data(), sampler.joints);
+    std::mt19937_64 rng(99);
+    int hits[4] = {0, 0, 0, 0};
+    const double margins[4] = {0.0, 0.005, 0.02, 0.1};
+    for (int s = 0; s < 1500; ++s) {
+      const std::vector<double> q = sampler.draw(rng);
+      for (int k = 0; k < 4; ++k) {
+        ValidityChecker fresh(*scene, worker.model(), worker.data(), sampler.joints);
+        const bool expected = fresh.within_margin(q.data(), margins[k]);
+        ASSERT_EQ(warm.within_margin(q.data(), margins[k]), expected)
+            << robot << ", sample " << s << ", margin " << margins[k];
+        hits[k] += expected;
+      }
+      ValidityChecker fresh(*scene, worker.model(), worker.data(), sampler.joints);
+      ASSERT_EQ(warm.in_collision(q.data()), fresh.in_collision(q.data()))
+          << robot << ", sample " << s;
+    }
+    // The margins change verdicts: states near something are among the samples.
+    EXPECT_GT(hits[3], hits[0] + 30) << robot;
+    EXPECT_LT(hits[0], 1500 - 100) << robot;
+  }
+}
+
 TEST(ValidityChecker, ArmOnlyChecksSkipPairsThatCannotChange) {
   auto scene = test::scene("tallbot", "kitchen");
   WorkerScene worker(scene);
