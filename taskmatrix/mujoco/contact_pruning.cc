@@ -18,7 +18,10 @@ ContactPruning::ContactPruning(const Scene& scene, const mjModel* m, ContactPrun
   for (int bit = 30; bit >= 0 && hold_bits_.size() < 2; --bit) {
     if (!(used & (1 << bit))) hold_bits_.push_back(1 << bit);
   }
-  margin_.assign(m->geom_margin, m->geom_margin + m->ngeom);
+  // MuJoCo's bounding-sphere test adds the larger of two margins; the sum of the margins
+  // clamped at zero is never smaller.
+  margin_.resize(m->ngeom);
+  for (int g = 0; g < m->ngeom; ++g) margin_[g] = std::max(0.0, m->geom_margin[g]);
   rbound_.assign(m->geom_rbound, m->geom_rbound + m->ngeom);
   std::vector<char> slot_geom(m->ngeom, 0);
   for (const ObstacleSlot& s : scene.obstacle_slots()) {
@@ -104,6 +107,9 @@ void ContactPruning::set_tree_bits(mjModel* m, const Tree& t, bool on) const {
 
 void ContactPruning::begin(mjModel* m) {
   active_ = true;
+  // The state may have jumped since the last period (a configuration set, a layout, a hold):
+  // the first step decides every static geom afresh.
+  static_countdown_ = 0;
   holds_applied_ = !holds_.empty() && !hold_bits_.empty();
   if (holds_applied_) {
     apply_holds(m);
@@ -194,21 +200,24 @@ bool ContactPruning::something_near(const double* c, double r, const Tree* excep
 }
 
 bool ContactPruning::static_geom_needed(const mjModel* m, int geom, const mjData* d) const {
+  // MuJoCo's margin override replaces every margin: nothing here bounds it.
+  if (m->opt.enableflags & mjENBL_OVERRIDE) return true;
+  const double margin = std::max(0.0, m->geom_margin[geom]);
   if (m->geom_type[geom] != mjGEOM_BOX) {
-    return something_near(d->geom_xpos + 3 * geom, m->geom_rbound[geom] + m->geom_margin[geom],
-                          nullptr, d, kStaticAllowanceM, true);
+    return something_near(d->geom_xpos + 3 * geom, m->geom_rbound[geom] + margin, nullptr, d,
+                          kStaticAllowanceM, true);
   }
   const int box = geom;
   for (const Tree& t : trees_) {
     if (t.asleep) continue;
     if (sphere_clear_of_box(m, d, box, t.center,
-                            t.radius + m->geom_margin[box] + kStaticAllowanceM)) {
+                            t.radius + margin + kStaticAllowanceM)) {
       continue;
     }
     if (t.scripted) return true;
     for (int g : t.geoms) {
       const double reach =
-          rbound_[g] + std::max(margin_[g], m->geom_margin[box]) + kStaticAllowanceM;
+          rbound_[g] + std::max(margin_[g], margin) + kStaticAllowanceM;
       if (!sphere_clear_of_box(m, d, box, d->geom_xpos + 3 * g, reach)) return true;
     }
   }
@@ -233,7 +242,10 @@ void ContactPruning::before_collision(mjModel* m, const mjData* d) {
   if (--static_countdown_ > 0 && !woke) return;
   static_countdown_ = static_check_steps_;
   for (StaticGeom& s : statics_) {
-    if (!open_contype_[s.geom] && !open_conaffinity_[s.geom]) continue;  // an unused slot
+    if (!open_contype_[s.geom] && !open_conaffinity_[s.geom]) {  // an unused slot
+      s.closed = false;
+      continue;
+    }
     const bool closed = !static_geom_needed(m, s.geom, d);
     if (closed != s.closed && active_) set_bits(m, s.geom, !closed);
     s.closed = closed;

@@ -9,9 +9,12 @@
 //     sphere comes within the pair's margins plus kStaticAllowanceM of a static geom (of its
 //     oriented box for boxes, of its bounding sphere otherwise), the static geom's collision
 //     bits are cleared, so MuJoCo skips it, and a body left with no collidable geom leaves the
-//     broadphase. Checked every kStaticCheckS of simulated time, and at once when an object
-//     wakes. Exact: MuJoCo's own bounding-sphere test rejects every such pair, as long as
-//     nothing moves more than kStaticAllowanceM in kStaticCheckS (10 m/s).
+//     broadphase. Checked at the first step of every control period (the state may have been
+//     set between periods), then every kStaticCheckS of simulated time, and at once when an
+//     object wakes. Exact: MuJoCo's own bounding-sphere test rejects every such pair, as long as
+//     nothing moves more than kStaticAllowanceM in kStaticCheckS (10 m/s) while the
+//     simulation steps (the visitor's walk is set before stepping, as trials do; a speed
+//     changed mid-run jumps it). Not used under MuJoCo's margin override.
 //     Static geoms are tested against each other by nobody (MuJoCo filters pairs on one weld
 //     body), so only movable geoms count; a scripted body (the visitor, whose heading is set
 //     and turns about its root at the ends of its walk) counts by its bounding sphere.
@@ -71,9 +74,6 @@ class ContactPruning {
   // a new layout). Call
   // outside begin()/end().
   void wake_all();
-  // The next before_collision() decides every static geom afresh (before stepping from a
-  // state the simulation jumped to, as a settle does). Call outside begin()/end().
-  void recheck_static_geoms() { static_countdown_ = 0; }
   // A held object moves with its holder: it never sleeps, and it does not collide with
   // `hand_bodies` (the bodies of the hand holding it) while held. Call outside begin()/end().
   void set_held(int body, bool held, const std::vector<int>& hand_bodies = {});
@@ -133,7 +133,7 @@ class ContactPruning {
   std::vector<double> margin_, rbound_;
   int rest_steps_needed_ = 1;
   int static_check_steps_ = 1;  // kStaticCheckS in timesteps
-  int static_countdown_ = 0;    // steps to the next check of the static geoms
+  int static_countdown_ = 0;    // steps to the next check of the static geoms (0: now)
   bool active_ = false;  // between begin() and end()
 };
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <functional>
+#include <set>
+#include <string>
 #include <string_view>
 
 #include <tinyxml2.h>
@@ -170,15 +173,28 @@ std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& enviro
                        std::max(global->IntAttribute("offheight"), options.offscreen_height));
 
   // Each geom placed directly in the world (a room's floor, walls, window) goes on a static
-  // body of its own, unnamed, with the world's frame: the same geom, pose and collisions. MuJoCo
-  // pairs the world body with every other body and then visits each pair of their geoms, so
-  // seven room geoms on the world body cost seven geom pairs per geom of every body at every
-  // step; on bodies of their own the walls leave the broadphase while the physics' contact
-  // pruning closes them, and a floor plane is visited once per geom.
+  // body of its own with the world's frame, named as the geom is (unless a body has that
+  // name): the same geom, pose and collisions. MuJoCo pairs the world body with every other
+  // body and then visits each pair of their geoms, so seven room geoms on the world body cost
+  // seven geom pairs per geom of every body at every step; on bodies of their own the walls
+  // leave the broadphase while the physics' contact pruning closes them, and a floor plane is
+  // visited once per geom.
   XMLElement* world = composer.section("worldbody");
+  std::set<std::string> body_names;
+  std::function<void(const XMLElement*)> collect = [&](const XMLElement* e) {
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      if (std::string(c->Name()) == "body" && c->Attribute("name")) {
+        body_names.insert(c->Attribute("name"));
+      }
+      collect(c);
+    }
+  };
+  collect(world);
   for (XMLElement* geom = world->FirstChildElement("geom"); geom;) {
     XMLElement* next = geom->NextSiblingElement("geom");
     XMLElement* body = composer.doc().NewElement("body");
+    const char* name = geom->Attribute("name");
+    if (name && body_names.insert(name).second) body->SetAttribute("name", name);
     world->InsertAfterChild(geom, body);
     body->InsertEndChild(geom);
     geom = next;

@@ -734,9 +734,7 @@ void MujocoSkillset::settle_objects(const std::vector<int>& bodies) {
     return std::all_of(at_rest.begin(), at_rest.end(), [&](int n) { return n >= rest_needed; });
   };
   // Static geoms nothing movable comes near are closed, as in physics execution (exact; the
-  // robot counts as movable though it cannot touch anything here), decided afresh for where
-  // the objects are now.
-  pruning_.recheck_static_geoms();
+  // robot counts as movable though it cannot touch anything here).
   pruning_.begin(m);
   for (int s = 0; s < steps && !settled(); ++s) {
     pruning_.before_collision(m, d);

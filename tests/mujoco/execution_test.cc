@@ -123,6 +123,50 @@ TEST_P(ExecutionOnBothRobots, ClosingStaticGeomsNothingComesNearChangesNothing) 
   EXPECT_EQ(b->pruning().closed_static_geoms(), 0);
 }
 
+TEST_P(ExecutionOnBothRobots, AStaticGeomClosedBeforeTheRobotWasSetBesideItCollidesAtOnce) {
+  // Three steps per period, so the static geoms' 10 ms checks fall in the middle of periods;
+  // the robot is set between periods from the middle of the room to a stance pressed against
+  // the counter, which nothing came near before. Gated and ungated physics must stay equal.
+  SimulationOptions gated, plain;
+  gated.control_rate_hz = plain.control_rate_hz = 1.0 / 0.006;
+  gated.pruning = {true, false};
+  plain.pruning = {false, false};
+  auto a = make_skills(GetParam(), gated);
+  auto b = make_skills(GetParam(), plain);
+  ASSERT_EQ(std::lround(a->control_period() / a->model()->opt.timestep), 3);
+  for (int k = 0; k < 7; ++k) {
+    a->advance();
+    b->advance();
+  }
+  ASSERT_GT(a->pruning().closed_static_geoms(), 20);
+  // The base's slide joints move the robot's root body: shift it to just short of the
+  // counter's centre, facing the way it faces now.
+  const core::Pose counter = a->frame_pose("side_surface");
+  const int head = a->scene().head_camera();
+  const double* at = a->sim_data()->cam_xpos + 3 * head;
+  std::vector<double> base = a->configuration({"base"});
+  base[0] += counter.position.x() - at[0];
+  base[1] += counter.position.y() - 0.3 - at[1];
+  a->set_configuration({"base"}, base);
+  b->set_configuration({"base"}, base);
+  for (int k = 0; k < 4; ++k) {
+    a->advance();
+    b->advance();
+    ASSERT_EQ(a->sim_data()->ncon, b->sim_data()->ncon) << "period " << k;
+    for (int i = 0; i < a->model()->nq; ++i) {
+      ASSERT_EQ(a->sim_data()->qpos[i], b->sim_data()->qpos[i]) << "qpos " << i << " period " << k;
+    }
+  }
+  bool touching_counter = false;
+  const int counter_body = mj_name2id(a->model(), mjOBJ_BODY, "counter");
+  for (int c = 0; c < a->sim_data()->ncon; ++c) {
+    const mjContact& con = a->sim_data()->contact[c];
+    touching_counter = touching_counter || a->model()->geom_bodyid[con.geom1] == counter_body ||
+                       a->model()->geom_bodyid[con.geom2] == counter_body;
+  }
+  EXPECT_TRUE(touching_counter) << "the robot was not set against the counter";
+}
+
 TEST_P(ExecutionOnBothRobots, RestingObjectsSleepUntilSomethingComesNear) {
   SimulationOptions options;  // physics, every pruning on
   auto skills = make_skills(GetParam(), options);

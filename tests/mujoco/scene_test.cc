@@ -142,6 +142,9 @@ TEST_P(EveryRobotInEveryEnvironment, TheWorldsOwnGeomsStandOnStaticBodiesOfTheir
     EXPECT_NE(b, 0) << name;
     EXPECT_EQ(m->body_weldid[b], 0) << name << " is not static";
     EXPECT_EQ(m->body_geomnum[b], 1) << name;
+    // Named as the geom, so that a contact with it names it (never "body 3").
+    const char* body = mj_id2name(m, mjOBJ_BODY, b);
+    EXPECT_STREQ(body ? body : "", name);
     for (int i = 0; i < 3; ++i) {
       EXPECT_NEAR(d->geom_xpos[3 * gc + i], d_alone->geom_xpos[3 * ga + i], 1e-12) << name;
     }
