@@ -231,7 +231,6 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
 void ValidityChecker::group_changing_pairs() {
   const mjModel* m = m_;
   const mjData* d = d_;
-  grouped_ = true;
   std::vector<int> local(m->nbody, -1);  // moving body -> its index among moving_bodies_
   for (size_t i = 0; i < moving_bodies_.size(); ++i) local[moving_bodies_[i]] = static_cast<int>(i);
   // (moving body, fixed body) -> group
@@ -261,12 +260,7 @@ void ValidityChecker::group_changing_pairs() {
     int& gi = group_of[static_cast<size_t>(local[bm]) * m->nbody + m->geom_bodyid[gf]];
     if (gi < 0) {
       gi = static_cast<int>(pair_groups_.size());
-      PairGroup g;
-      g.moving_body = bm;
-      g.radius = 0;
-      g.margin = 0;
-      g.with_world = false;
-      pair_groups_.push_back(g);
+      pair_groups_.emplace_back().moving_body = bm;
       fixed_box.emplace_back();
     }
     group_of_pair[k] = gi;
@@ -313,8 +307,8 @@ bool ValidityChecker::group_near(const PairGroup& g, double extra) const {
 template <class Hit>
 bool ValidityChecker::any_changing_pair(double extra, Hit hit) {
   // Grouping costs about as much as a few checks: a checker used once visits every pair.
-  if (!grouped_ && ++ungrouped_checks_ >= 2) group_changing_pairs();
-  if (!grouped_) {
+  if (pair_visits_ < 2 && ++pair_visits_ == 2) group_changing_pairs();
+  if (pair_visits_ < 2) {
     for (size_t k = 0; k < changing_pairs_.size(); ++k) {
       if (hit(k)) return true;
     }

@@ -138,17 +138,16 @@ class ValidityChecker {
   // apart than its largest margin is skipped whole, as each of its pairs' own bounding-sphere
   // test would skip it. The other pairs (both bodies moving, a plane) are visited one by one.
   struct PairGroup {
-    int moving_body;
-    double fixed_center[3];
-    double radius;      // both spheres' radii
-    double margin;      // the largest pair margin
-    bool with_world;    // some pair gets the planning margin
-    std::vector<int> pairs;  // indices into changing_pairs_
+    int moving_body = -1;
+    double fixed_center[3] = {0, 0, 0};
+    double radius = 0;         // both spheres' radii
+    double margin = 0;         // the largest pair margin
+    bool with_world = false;   // some pair gets the planning margin
+    std::vector<int> pairs;    // indices into changing_pairs_
   };
   std::vector<int> ungrouped_pairs_;
   std::vector<PairGroup> pair_groups_;
-  bool grouped_ = false;     // pair_groups_ built (at the second check)
-  int ungrouped_checks_ = 0;
+  int pair_visits_ = 0;  // visits of the changing pairs, counted to 2: grouped from the second
   // Needs the bound state's poses: the fixed geoms', and the moving geoms' offsets from their
   // bodies (either configuration serves: the offsets are rigid).
   void group_changing_pairs();
