@@ -406,50 +406,127 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
     break;
   }
   const std::vector<std::vector<double>> stances = stance_candidates(ctx, body);
-  // IK from each stance with the base's joints held (weight 0), the rest of the body starting
-  // where it is.
+  // IK from each stance, the rest of the body starting where it is: first with the base's
+  // joints held there (weight 0); then, from the first kMaxLooseStances stances, with the base
+  // free to move a little (weight kLooseBaseWeight; its restarts are drawn round the stance),
+  // for a target whose stance lies between the candidates.
   const size_t nb = skills.chain("base").joints.size();
   core::IkOptions held = ik_;
   held.start = skills.configuration(body);
   held.joint_weights.assign(held.start.size(), 1.0);
-  std::fill(held.joint_weights.begin(), held.joint_weights.begin() + static_cast<long>(nb), 0.0);
   held.restarts = kStanceRestarts;
   int tried = 0;
-  for (const std::vector<double>& stance : stances) {
-    if (++tried > kMaxStances) break;
-    std::copy(stance.begin(), stance.end(), held.start.begin());
-    for (size_t k = 0; k < targets_.size(); ++k) {
-      const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why, &held);
-      if (solutions.empty()) continue;
-      if (go(k, solutions.front(), ended)) return ended;
-      break;  // the next stance
+  for (const double base_weight : {0.0, kLooseBaseWeight}) {
+    std::fill(held.joint_weights.begin(), held.joint_weights.begin() + static_cast<long>(nb),
+              base_weight);
+    const int limit = base_weight > 0 ? kMaxLooseStances : kMaxStances;
+    int here = 0;
+    for (const std::vector<double>& stance : stances) {
+      if (++here > limit) break;
+      ++tried;
+      std::copy(stance.begin(), stance.end(), held.start.begin());
+      for (size_t k = 0; k < targets_.size(); ++k) {
+        const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why, &held);
+        if (solutions.empty()) continue;
+        if (go(k, solutions.front(), ended)) return ended;
+        break;  // the next stance
+      }
     }
   }
   if (last_plan_failure) return last_plan_failure;
-  failure.detail += "; stepping: no stance found (" + why + "; " +
-                    std::to_string(std::min<int>(tried, kMaxStances)) + " of " +
-                    std::to_string(stances.size()) + " stances searched)";
+  failure.detail += "; stepping: no stance found (" + why + "; " + std::to_string(tried) +
+                    " searches from " + std::to_string(stances.size()) + " stances)";
   return failure;
+}
+
+ReachEnvelope::ReachEnvelope(core::Skillset& skills, const std::vector<std::string>& body,
+                             const std::string& frame) {
+  // The base at the origin facing +x; every other joint of the body drawn uniformly within
+  // its limits, then the farthest draws pushed outwards joint by joint with shrinking steps
+  // (the farthest reach is a corner of the joint space that uniform draws rarely hit). The
+  // draws are seeded by a constant: the result is the robot's, the same in every trial.
+  std::vector<double> q = skills.configuration(body);
+  std::vector<double> lower, upper;
+  for (const std::string& c : body) {
+    const core::ChainInfo& info = skills.chain(c);
+    lower.insert(lower.end(), info.lower.begin(), info.lower.end());
+    upper.insert(upper.end(), info.upper.begin(), info.upper.end());
+  }
+  const size_t nb = skills.chain("base").joints.size();
+  std::fill(q.begin(), q.begin() + static_cast<long>(nb), 0.0);
+  // The base's vertical axis at base (0, 0): halfway between where the frame is with the base
+  // turned by 0 and by pi (the axis need not be at the model's origin).
+  const Eigen::Vector3d p0 = skills.frame_pose_at(body, q, frame).position;
+  q[2] = M_PI;
+  const Eigen::Vector3d pi = skills.frame_pose_at(body, q, frame).position;
+  q[2] = 0;
+  axis_ = Eigen::Vector2d((p0.x() + pi.x()) / 2, (p0.y() + pi.y()) / 2);
+  auto radius_of = [&](const std::vector<double>& v) {
+    const Eigen::Vector3d p = skills.frame_pose_at(body, v, frame).position;
+    return std::hypot(p.x() - axis_.x(), p.y() - axis_.y());
+  };
+  std::mt19937_64 rng(0x5eed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<std::pair<double, std::vector<double>>> draws;
+  for (int n = 0; n < kDraws; ++n) {
+    for (size_t j = nb; j < q.size(); ++j) q[j] = lower[j] + unit(rng) * (upper[j] - lower[j]);
+    draws.emplace_back(radius_of(q), q);
+  }
+  std::partial_sort(draws.begin(), draws.begin() + kClimbs, draws.end(),
+                    [](const auto& a, const auto& b) { return a.first > b.first; });
+  radius_ = draws.front().first;
+  for (int c = 0; c < kClimbs; ++c) {
+    auto [best, v] = draws[static_cast<size_t>(c)];
+    for (double step = 0.5; step > 0.01; step /= 2) {
+      for (size_t j = nb; j < v.size(); ++j) {
+        for (double sign : {1.0, -1.0}) {
+          std::vector<double> w = v;
+          w[j] = std::clamp(w[j] + sign * step * (upper[j] - lower[j]), lower[j], upper[j]);
+          const double r = radius_of(w);
+          if (r > best) {
+            best = r;
+            v = std::move(w);
+          }
+        }
+      }
+    }
+    radius_ = std::max(radius_, best);
+  }
 }
 
 std::vector<std::vector<double>> ArmMotion::stance_candidates(
     core::ProgramContext& ctx, const std::vector<std::string>& body) {
   // Base poses near the current one (forward and back along the heading, to either side,
   // turned towards the targets' centre or not), then on rings round the targets' centre
-  // facing it (walking round what the target stands on), the nearest travel first.
+  // facing it (walking round what the target stands on), the nearest travel first. A pose
+  // from which every target is beyond the frame's farthest horizontal reach (plus a slack for
+  // what the search for it missed) is dropped, and so is a repeat of an earlier one.
   core::Skillset& skills = ctx.skills();
   const std::vector<double> now = skills.configuration(body);
   const double x0 = now[0], y0 = now[1], yaw0 = now[2];
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const ArmTarget& t : targets_) centre += t.pose.position;
   centre /= static_cast<double>(targets_.size());
+  const ReachEnvelope envelope(skills, body, frame_);
   struct Candidate {
     double cost;
     std::vector<double> base;
   };
   std::vector<Candidate> candidates;
   auto add = [&](double x, double y, double yaw) {
+    const Eigen::Vector2d axis = envelope.axis_at_origin() + Eigen::Vector2d(x, y);
+    const bool within = std::any_of(targets_.begin(), targets_.end(), [&](const ArmTarget& t) {
+      return std::hypot(t.pose.position.x() - axis.x(), t.pose.position.y() - axis.y()) <=
+             envelope.radius() + ReachEnvelope::kSlackM;
+    });
+    if (!within) return;
     const double turn = std::remainder(yaw - yaw0, 2 * M_PI);
+    for (const Candidate& c : candidates) {
+      if (std::hypot(c.base[0] - x, c.base[1] - y) < 0.01 &&
+          std::abs(std::remainder(c.base[2] - yaw0 - turn, 2 * M_PI)) < 0.01) {
+        return;
+      }
+    }
     candidates.push_back(
         {std::hypot(x - x0, y - y0) + kStanceTurnCostM * std::abs(turn), {x, y, yaw0 + turn}});
   };
@@ -469,8 +546,9 @@ std::vector<std::vector<double>> ArmMotion::stance_candidates(
   for (double share : {0.25, 0.35, 0.45}) {
     for (int k = 0; k < kStanceHeadings; ++k) {
       const double around = 2 * M_PI * k / kStanceHeadings;
-      add(centre.x() + share * height * std::cos(around),
-          centre.y() + share * height * std::sin(around), around + M_PI);
+      const Eigen::Vector2d& c = envelope.axis_at_origin();
+      add(centre.x() + share * height * std::cos(around) - c.x(),
+          centre.y() + share * height * std::sin(around) - c.y(), around + M_PI);
     }
   }
   std::stable_sort(candidates.begin(), candidates.end(),

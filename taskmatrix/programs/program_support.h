@@ -133,6 +133,28 @@ struct ArmTarget {
   std::string tag;                                      // what the target is, for messages
 };
 
+// How far a frame moved by a body (base, torso, arm) gets from the base's vertical axis, at
+// any height: the largest of uniform draws over the joint limits (base held), each of the
+// farthest then pushed outwards joint by joint. A search, so a lower estimate of the true
+// farthest reach (a stance search adds a slack), computed once per stance search.
+class ReachEnvelope {
+ public:
+  ReachEnvelope(core::Skillset& skills, const std::vector<std::string>& body,
+                const std::string& frame);
+  double radius() const { return radius_; }
+  // Where the base's vertical axis is (world x, y) with the base's joints at zero.
+  const Eigen::Vector2d& axis_at_origin() const { return axis_; }
+  static constexpr int kDraws = 400;
+  static constexpr int kClimbs = 4;
+  // How much farther than radius() a target may be for a stance search to try a base pose:
+  // more than the search falls short of the true farthest reach.
+  static constexpr double kSlackM = 0.05;
+
+ private:
+  double radius_ = 0;
+  Eigen::Vector2d axis_ = Eigen::Vector2d::Zero();
+};
+
 // Moves `frame` of an arm to one of `targets` (tried in order) with as little of the body as
 // will do: the arm; when IK finds no solution for any target, torso and arm (if `torso`); then
 // (if `base`) the robot steps: IK over base, torso and arm gives a stance from which the arm
@@ -174,6 +196,9 @@ class ArmMotion {
   // The stance search's work bounds: stances tried, and IK restarts per target at each.
   static constexpr int kMaxStances = 48;
   static constexpr int kStanceRestarts = 3;
+  // The second pass: stances searched with the base free to move, and its IK weight.
+  static constexpr int kMaxLooseStances = 24;
+  static constexpr double kLooseBaseWeight = 0.1;
   // Stances found that the planner could not get to before the search gives up.
   static constexpr int kMaxUnplannedStances = 3;
   // Stances on each ring round the target, and what a turn of the base costs against walking
