@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -49,6 +51,26 @@ Scenario generalization_scenario(const std::string& name) {
                                [&](const Scenario& s) { return s.name == name; });
   if (it == plan.scenarios.end()) throw std::runtime_error("no scenario " + name);
   return *it;
+}
+
+// Runs the trial (layout, seed) of `s` on `robot` in the kitchen under kinematic execution and
+// expects it to succeed with the base ending more than `min_travel_m` (in the plane) from
+// where it stood at set-up: the robot stepped.
+void expect_success_stepping(Scenario s, const std::string& robot, std::uint32_t layout,
+                             std::uint32_t seed, double min_travel_m) {
+  s.execution = "kinematic";
+  std::vector<double> start, end;
+  const TrialResult r =
+      run_trial(s, *test::loaded_scene(robot, "kitchen"), layout, seed, registry(),
+                [&](const std::string& moment, const core::TrialWorld& world) {
+                  if (moment == "setup") start = world.skills().configuration({"base"});
+                  if (moment == "end") end = world.skills().configuration({"base"});
+                });
+  ASSERT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  ASSERT_EQ(start.size(), 3u);
+  ASSERT_EQ(end.size(), 3u);
+  EXPECT_GT(std::hypot(end[0] - start[0], end[1] - start[1]), min_travel_m)
+      << "the base did not step far enough";
 }
 
 // With TASKMATRIX_RENDER_DIR set, writes DIR/<label>_<moment>.png of the trial.
@@ -413,21 +435,7 @@ TEST(ReachOnAtlas, APathLeavingTheTableIsCheckedFinelyNearItsStart) {
 // body from where it stands found no stance. The stance search places the base first, nearer
 // the table, and solves the torso and arm with the base held there.
 TEST(ReachOnTallbot, ACupBeyondArmAndTorsoIsReachedFromAStanceFoundBaseFirst) {
-  Scenario s = generalization_scenario("reach");
-  s.execution = "kinematic";
-  std::vector<double> base_at_start, base_at_end;
-  const TrialResult r = run_trial(s, *test::loaded_scene("tallbot", "kitchen"), 117, 18, registry(),
-                                  [&](const std::string& moment, const core::TrialWorld& world) {
-                                    if (moment == "setup")
-                                      base_at_start = world.skills().configuration({"base"});
-                                    if (moment == "end")
-                                      base_at_end = world.skills().configuration({"base"});
-                                  });
-  ASSERT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
-  ASSERT_EQ(base_at_start.size(), 3u);
-  ASSERT_EQ(base_at_end.size(), 3u);
-  EXPECT_GT(std::hypot(base_at_end[0] - base_at_start[0], base_at_end[1] - base_at_start[1]), 0.05)
-      << "the base did not step";
+  expect_success_stepping(generalization_scenario("reach"), "tallbot", 117, 18, 0.05);
 }
 
 // The vacuum's handle on the table (the default suite's vacuum, kitchen, layout 5): minibot's
@@ -438,21 +446,7 @@ TEST(ReachOnTallbot, ACupBeyondArmAndTorsoIsReachedFromAStanceFoundBaseFirst) {
 // on the table is within the arm's reach, and never got to the poses round the table.
 // Repeats and base poses out of the arm's reach are dropped.
 TEST(VacuumOnMinibot, TheStanceSearchGetsPastPosesFromWhichTheHandleIsOutOfReach) {
-  Scenario s = program_scenario("vacuum");
-  s.execution = "kinematic";
-  std::vector<double> base_at_start, base_at_end;
-  const TrialResult r = run_trial(s, *test::loaded_scene("minibot", "kitchen"), 5, 3, registry(),
-                                  [&](const std::string& moment, const core::TrialWorld& world) {
-                                    if (moment == "setup")
-                                      base_at_start = world.skills().configuration({"base"});
-                                    if (moment == "end")
-                                      base_at_end = world.skills().configuration({"base"});
-                                  });
-  ASSERT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
-  ASSERT_EQ(base_at_start.size(), 3u);
-  ASSERT_EQ(base_at_end.size(), 3u);
-  EXPECT_GT(std::hypot(base_at_end[0] - base_at_start[0], base_at_end[1] - base_at_start[1]), 0.3)
-      << "the base stayed among the poses near the start";
+  expect_success_stepping(program_scenario("vacuum"), "minibot", 5, 3, 0.3);
 }
 
 // The vacuum's handle on a 0.66 m table, 0.76 m ahead (the generalization suite's vacuum,
