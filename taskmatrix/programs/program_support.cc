@@ -375,7 +375,8 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
                                                   core::Failure failure) {
   // A stance from which the arm reaches: first IK over the whole body from here; then a search
   // that places the base first (stance_candidates) and solves the torso and arm with the base
-  // held there, each solution collision-checked with the body as it would stand.
+  // held there, each solution collision-checked with the body as it would stand; then IK over
+  // the whole body again, started from the first of those base poses.
   core::Skillset& skills = ctx.skills();
   std::vector<std::string> body{"base"};
   if (torso_) body.push_back("torso");
@@ -408,8 +409,10 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
   const std::vector<std::vector<double>> stances = stance_candidates(ctx, body);
   // IK from each stance, the rest of the body starting where it is: first with the base's
   // joints held there (weight 0); then, from the first kMaxLooseStances stances, with the base
-  // free to move a little (weight kLooseBaseWeight; its restarts are drawn round the stance),
-  // for a target whose stance lies between the candidates.
+  // free (weight kLooseBaseWeight: its steps are shorter than the other joints', but IK's
+  // restarts draw it like any joint, its heading anywhere and its position within the hand's
+  // distance from the target plus 0.5 m): whole-body IK started from those poses, which finds
+  // stances between the candidates.
   const size_t nb = skills.chain("base").joints.size();
   core::IkOptions held = ik_;
   held.start = skills.configuration(body);
@@ -444,7 +447,8 @@ ReachEnvelope::ReachEnvelope(core::Skillset& skills, const std::vector<std::stri
   // The base at the origin facing +x; every other joint of the body drawn uniformly within
   // its limits, then the farthest draws pushed outwards joint by joint with shrinking steps
   // (the farthest reach is a corner of the joint space that uniform draws rarely hit). The
-  // draws are seeded by a constant: the result is the robot's, the same in every trial.
+  // draws are seeded by a constant: the result depends on the robot and on the frame (a held
+  // tool's tip, on the grasp), never on the trial's seed.
   std::vector<double> q = skills.configuration(body);
   std::vector<double> lower, upper;
   for (const std::string& c : body) {
@@ -457,9 +461,9 @@ ReachEnvelope::ReachEnvelope(core::Skillset& skills, const std::vector<std::stri
   // The base's vertical axis at base (0, 0): halfway between where the frame is with the base
   // turned by 0 and by pi (the axis need not be at the model's origin).
   const Eigen::Vector3d p0 = skills.frame_pose_at(body, q, frame).position;
-  q[2] = M_PI;
+  q[nb - 1] = M_PI;  // the base's joints are x, y and yaw (the profile's rule)
   const Eigen::Vector3d pi = skills.frame_pose_at(body, q, frame).position;
-  q[2] = 0;
+  q[nb - 1] = 0;
   axis_ = Eigen::Vector2d((p0.x() + pi.x()) / 2, (p0.y() + pi.y()) / 2);
   auto radius_of = [&](const std::vector<double>& v) {
     const Eigen::Vector3d p = skills.frame_pose_at(body, v, frame).position;
@@ -522,8 +526,8 @@ std::vector<std::vector<double>> ArmMotion::stance_candidates(
     if (!within) return;
     const double turn = std::remainder(yaw - yaw0, 2 * M_PI);
     for (const Candidate& c : candidates) {
-      if (std::hypot(c.base[0] - x, c.base[1] - y) < 0.01 &&
-          std::abs(std::remainder(c.base[2] - yaw0 - turn, 2 * M_PI)) < 0.01) {
+      if (std::hypot(c.base[0] - x, c.base[1] - y) < kSameStanceM &&
+          std::abs(std::remainder(c.base[2] - yaw0 - turn, 2 * M_PI)) < kSameStanceRad) {
         return;
       }
     }
@@ -543,12 +547,13 @@ std::vector<std::vector<double>> ArmMotion::stance_candidates(
   }
   // Ring radii in proportion to the robot's height (a human's arm is about 0.35 of it).
   const double height = skills.profile().height_m;
+  // The base's axis (not its joints' origin) on the ring.
+  const Eigen::Vector2d& axis_offset = envelope.axis_at_origin();
   for (double share : {0.25, 0.35, 0.45}) {
     for (int k = 0; k < kStanceHeadings; ++k) {
       const double around = 2 * M_PI * k / kStanceHeadings;
-      const Eigen::Vector2d& c = envelope.axis_at_origin();
-      add(centre.x() + share * height * std::cos(around) - c.x(),
-          centre.y() + share * height * std::sin(around) - c.y(), around + M_PI);
+      add(centre.x() + share * height * std::cos(around) - axis_offset.x(),
+          centre.y() + share * height * std::sin(around) - axis_offset.y(), around + M_PI);
     }
   }
   std::stable_sort(candidates.begin(), candidates.end(),

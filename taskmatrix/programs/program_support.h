@@ -179,7 +179,8 @@ class ArmMotion {
   std::optional<core::Failure> reach_from_here(core::ProgramContext& ctx);
   std::optional<core::Failure> step_over(core::ProgramContext& ctx, core::Failure failure);
   // Base poses to search for a stance: near the current one, then round the targets; the
-  // nearest travel first.
+  // nearest travel first; repeats and poses from which every target is out of the frame's
+  // reach (ReachEnvelope) dropped.
   std::vector<std::vector<double>> stance_candidates(core::ProgramContext& ctx,
                                                      const std::vector<std::string>& body);
   // Moves to a whole-body solution for target k: the base first when the rest of the body can
@@ -196,7 +197,7 @@ class ArmMotion {
   // The stance search's work bounds: stances tried, and IK restarts per target at each.
   static constexpr int kMaxStances = 48;
   static constexpr int kStanceRestarts = 3;
-  // The second pass: stances searched with the base free to move, and its IK weight.
+  // The second pass: stances searched with the base free, and its IK weight there.
   static constexpr int kMaxLooseStances = 24;
   static constexpr double kLooseBaseWeight = 0.1;
   // Stances found that the planner could not get to before the search gives up.
@@ -205,6 +206,9 @@ class ArmMotion {
   // when ordering them (metres per radian).
   static constexpr int kStanceHeadings = 12;
   static constexpr double kStanceTurnCostM = 0.3;
+  // Candidates this close (metres apart, and radians of heading) are the same stance.
+  static constexpr double kSameStanceM = 0.01;
+  static constexpr double kSameStanceRad = 0.01;
   MotionStage motion_;
   std::string arm_, frame_;
   std::vector<ArmTarget> targets_;

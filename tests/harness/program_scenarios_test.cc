@@ -441,7 +441,7 @@ TEST(ReachOnTallbot, ACupBeyondArmAndTorsoIsReachedFromAStanceFoundBaseFirst) {
 // The vacuum's handle on the table (the default suite's vacuum, kitchen, layout 5): minibot's
 // arm and torso reach it only with solutions the planner cannot connect to
 // (`approximate_solution`), IK over the whole body from where it stands finds no stance, and
-// the stance search tried its first 48 base poses, 45 of them within 0.3 m of the start,
+// the stance search tried its first 48 base poses, 45 of them within 0.34 m of the start,
 // among them the same pose three times over and poses behind the start from which nothing
 // on the table is within the arm's reach, and never got to the poses round the table.
 // Repeats and base poses out of the arm's reach are dropped.
