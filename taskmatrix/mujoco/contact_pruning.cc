@@ -184,8 +184,8 @@ void ContactPruning::bound(Tree& t, const mjData* d) const {
   }
 }
 
-bool ContactPruning::something_near(const double* c, double r, const Tree* except,
-                                    const mjData* d, double allowance, bool coarse) const {
+bool ContactPruning::something_near(const double* c, double r, const Tree* except, const mjData* d,
+                                    double allowance, bool coarse) const {
   for (const Tree& t : trees_) {
     if (&t == except || t.asleep) continue;
     if (mju_dist3(t.center, c) > t.radius + r + allowance) continue;
@@ -202,23 +202,20 @@ bool ContactPruning::something_near(const double* c, double r, const Tree* excep
 bool ContactPruning::static_geom_needed(const mjModel* m, int geom, const mjData* d) const {
   // MuJoCo's margin override replaces every margin: nothing here bounds it.
   if (m->opt.enableflags & mjENBL_OVERRIDE) return true;
-  const double margin = std::max(0.0, m->geom_margin[geom]);
+  const double margin = margin_[geom];
   if (m->geom_type[geom] != mjGEOM_BOX) {
     return something_near(d->geom_xpos + 3 * geom, m->geom_rbound[geom] + margin, nullptr, d,
                           kStaticAllowanceM, true);
   }
-  const int box = geom;
   for (const Tree& t : trees_) {
     if (t.asleep) continue;
-    if (sphere_clear_of_box(m, d, box, t.center,
-                            t.radius + margin + kStaticAllowanceM)) {
+    if (sphere_clear_of_box(m, d, geom, t.center, t.radius + margin + kStaticAllowanceM)) {
       continue;
     }
     if (t.scripted) return true;
     for (int g : t.geoms) {
-      const double reach =
-          rbound_[g] + std::max(margin_[g], margin) + kStaticAllowanceM;
-      if (!sphere_clear_of_box(m, d, box, d->geom_xpos + 3 * g, reach)) return true;
+      const double reach = rbound_[g] + std::max(margin_[g], margin) + kStaticAllowanceM;
+      if (!sphere_clear_of_box(m, d, geom, d->geom_xpos + 3 * g, reach)) return true;
     }
   }
   return false;
