@@ -25,6 +25,8 @@ constexpr double kSupportClearance = 0.005;
 constexpr double kDownward = 0.1;
 constexpr double kSettle = 0.003;
 constexpr double kGraspableReach = 0.03 - kSettle;
+// The closing sweep's step (the angle the joint that turns most turns per step).
+constexpr double kSweepStepRad = 0.2;
 
 Eigen::Vector3d horizontal(Eigen::Vector3d v) {
   v.z() = 0;
@@ -147,13 +149,35 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
   if (fist != skills.profile().postures.end() && fist->second.count(chain)) {
     closed = fist->second.at(chain);
   }
-  // A finger body's origin in the palm frame, with the hand at `config`.
-  auto in_palm = [&](const std::vector<double>& config, const std::string& body) {
+  // A body's pose in the palm frame, with the hand at `config`.
+  auto pose_in_palm = [&](const std::vector<double>& config, const std::string& body) {
     const core::Pose p = skills.frame_pose_at({chain}, config, body);
     const core::Pose at = skills.frame_pose_at({chain}, config, hand.palm);
-    return Eigen::Vector3d(at.orientation.conjugate() * (p.position - at.position));
+    core::Pose out;
+    out.orientation = at.orientation.conjugate() * p.orientation;
+    out.position = at.orientation.conjugate() * (p.position - at.position);
+    return out;
+  };
+  auto in_palm = [&](const std::vector<double>& config, const std::string& body) {
+    return pose_in_palm(config, body).position;
   };
   double lo = INFINITY, hi = -INFINITY, depth = 0, reach = 0;
+  // The closing in steps of kSweepStepRad of the joint that turns most per step: each joint
+  // moves towards the fist by the same angle until it gets there.
+  double widest = 0;
+  for (size_t j = 0; j < open.size() && j < closed.size(); ++j) {
+    widest = std::max(widest, std::abs(closed[j] - open[j]));
+  }
+  const int steps = std::max(1, static_cast<int>(std::ceil(widest / kSweepStepRad)));
+  std::vector<std::vector<double>> sweep;
+  for (int s = 0; s <= steps; ++s) {
+    std::vector<double> q = open;
+    for (size_t j = 0; j < q.size() && j < closed.size(); ++j) {
+      const double turn = std::min(widest * s / steps, std::abs(closed[j] - open[j]));
+      q[j] += closed[j] >= open[j] ? turn : -turn;
+    }
+    sweep.push_back(std::move(q));
+  }
   for (const core::FingerSpec& f : hand.fingers) {
     if (f.bodies.empty()) continue;
     const Eigen::Vector3d base = in_palm(open, f.bodies.front());
@@ -170,6 +194,21 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
       g.finger_points.push_back(last);
     }
     if (f.bodies.size() >= 2) g.finger_points.push_back(2 * last - previous);
+    // The fingertip estimate rides on the last segment as the finger closes.
+    const core::Pose last_open = pose_in_palm(open, f.bodies.back());
+    const Eigen::Vector3d tip_in_last =
+        f.bodies.size() >= 2
+            ? Eigen::Vector3d(last_open.orientation.conjugate() * (last - previous))
+            : Eigen::Vector3d::Zero();
+    std::vector<std::vector<Eigen::Vector3d>> finger_sweep;
+    for (const std::vector<double>& q : sweep) {
+      std::vector<Eigen::Vector3d> points;
+      for (const std::string& body : f.bodies) points.push_back(pose_in_palm(q, body).position);
+      const core::Pose end = pose_in_palm(q, f.bodies.back());
+      points.push_back(end.position + end.orientation * tip_in_last);
+      finger_sweep.push_back(std::move(points));
+    }
+    g.sweeps.push_back(std::move(finger_sweep));
     ++g.fingers;
   }
   g.aperture_m = g.fingers >= 2 ? hi - lo : 0;
@@ -177,6 +216,34 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
   g.closed_reach_m = g.fingers > 0 ? std::max(0.0, reach / g.fingers) : 0;
   g.fingers_needed = std::min(g.fingers, g.fingers / 2 + 1);
   return g;
+}
+
+std::vector<Eigen::Vector3d> HandGeometry::swept_points(const Eigen::Vector3d& centre,
+                                                        const Eigen::Vector3d& axis,
+                                                        double radius) const {
+  const Eigen::Vector3d u = axis.normalized();
+  // The distance from the segment a-b to the line.
+  auto from_line = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    Eigen::Vector3d pa = a - centre, pb = b - centre;
+    pa -= pa.dot(u) * u;
+    pb -= pb.dot(u) * u;
+    const Eigen::Vector3d d = pb - pa;
+    const double t =
+        d.squaredNorm() > 1e-12 ? std::clamp(-pa.dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (pa + t * d).norm();
+  };
+  std::vector<Eigen::Vector3d> out;
+  for (const std::vector<std::vector<Eigen::Vector3d>>& finger : sweeps) {
+    for (const std::vector<Eigen::Vector3d>& points : finger) {
+      out.insert(out.end(), points.begin(), points.end());
+      bool stopped = false;
+      for (size_t i = 0; radius > 0 && i + 1 < points.size(); ++i) {
+        stopped = stopped || from_line(points[i], points[i + 1]) <= radius;
+      }
+      if (stopped) break;
+    }
+  }
+  return out;
 }
 
 GraspCandidate::Placement GraspCandidate::place(const HandGeometry& hand, double clearance) const {

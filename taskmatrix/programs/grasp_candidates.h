@@ -48,6 +48,15 @@ struct HandGeometry {
   // Points of the open fingers in the palm frame: their segments' origins and an estimate of
   // each fingertip (the last segment as long as the one before it, straight on).
   std::vector<Eigen::Vector3d> finger_points;
+  // The same points of each finger (segments' origins, then the fingertip estimate carried by
+  // the last segment) in the palm frame at each step of the closing from open to `fist`,
+  // every finger joint turning at the same speed, as grasp closes them: sweeps[finger][step].
+  std::vector<std::vector<std::vector<Eigen::Vector3d>>> sweeps;
+  // The points the fingers pass through while closing on a bar of `radius` round the line
+  // through `centre` along `axis` (palm frame): each finger's sweep up to the first step at
+  // which it comes within `radius` of the line, where it stops; radius 0: the whole sweep.
+  std::vector<Eigen::Vector3d> swept_points(const Eigen::Vector3d& centre,
+                                            const Eigen::Vector3d& axis, double radius) const;
   int fingers = 0;
   // Fingers that must touch an object for the hand to hold it: a majority of its fingers.
   int fingers_needed = 0;

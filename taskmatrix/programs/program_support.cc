@@ -264,14 +264,28 @@ std::vector<std::vector<double>> ArmMotion::solve(core::ProgramContext& ctx,
   }
   std::vector<std::vector<double>> out;
   for (const std::vector<double>& q : r.solutions) {
-    if (free && t.free_turn_rad < M_PI) {
-      const core::Pose at = skills.frame_pose_at(chains, q, frame_);
+    const bool limited = free && t.free_turn_rad < M_PI;
+    if (!limited && t.keep_above.empty()) {
+      out.push_back(q);
+      continue;
+    }
+    const core::Pose at = skills.frame_pose_at(chains, q, frame_);
+    if (limited) {
       const double turn =
           Eigen::AngleAxisd(t.pose.orientation.conjugate() * at.orientation).angle();
       if (turn > t.free_turn_rad + 0.035) {
         if (why.empty()) why = "the turn the arm needs is outside what the target allows";
         continue;
       }
+    }
+    const bool above =
+        std::all_of(t.keep_above.begin(), t.keep_above.end(), [&](const Eigen::Vector3d& p) {
+          return (at.position + at.orientation * p).z() >= t.floor_z;
+        });
+    if (!above) {
+      if (why.empty())
+        why = "at the turn IK found, the closing fingers would reach the surface below";
+      continue;
     }
     out.push_back(q);
   }

@@ -131,6 +131,11 @@ struct ArmTarget {
   Eigen::Vector3d free_axis = Eigen::Vector3d::Zero();  // world; zero: the full pose
   double free_turn_rad = 0;                             // M_PI or more: any turn
   std::string tag;                                      // what the target is, for messages
+  // Points in the frame's coordinates that must stay above the world height `floor_z` at a
+  // solution, however the frame turned about `free_axis` (the points a closing hand's fingers
+  // sweep through, over the surface the object stands on); empty: none.
+  std::vector<Eigen::Vector3d> keep_above;
+  double floor_z = -INFINITY;
 };
 
 // How far a frame moved by a body (base, torso, arm) gets from the base's vertical axis, at

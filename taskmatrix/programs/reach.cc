@@ -5,7 +5,9 @@
 // (IK, then planning), at two clearances of the palm, with the arm, then torso and arm, then by
 // stepping (ArmMotion); the first plan found is executed and its candidate noted for grasp. The
 // hand may turn about the candidate's free axis (round objects, handles) as far as the grasp
-// allows, whatever the arm. Exits at once when the object is already graspable by that hand.
+// allows, whatever the arm; after a grasp that did not hold, only as far as the closing fingers
+// stay over the surface under the object. Exits at once when the object is already graspable
+// by that hand.
 #include <algorithm>
 #include <cmath>
 
@@ -20,6 +22,11 @@ namespace {
 // Clearances of the palm from the object's near side, along the approach: close, then with
 // more room.
 constexpr double kClearances[] = {0.01, 0.025};
+// A free axis with a larger vertical component turns the hand about the vertical, which
+// keeps the fingers' heights.
+constexpr double kVerticalAxis = 0.9;
+// How far the axes of the closing fingers stay over the support.
+constexpr double kSweepClearance = 0.005;
 
 class Reach final : public core::TaskProgram {
  public:
@@ -92,7 +99,24 @@ class Reach final : public core::TaskProgram {
     for (const GraspCandidate& c : candidates_) {
       for (double clearance : kClearances) {
         const GraspCandidate::Placement at = c.place(geometry, clearance);
-        targets.push_back({at.pose, c.free_axis, at.free_turn_rad, c.id});
+        ArmTarget t;
+        t.pose = at.pose;
+        t.free_axis = c.free_axis;
+        t.free_turn_rad = at.free_turn_rad;
+        t.tag = c.id;
+        // Turning about an axis that is not vertical (a handle's), IK decides how low the
+        // fingers go. After a grasp that did not hold, their closing sweep must stay over the
+        // support. The sweep errs low (fingertips as long as the segment before them, each
+        // finger stopping only when its axis reaches the handle's radius), so it is not asked
+        // of the first grasp: there it kept out grasps that hold (tallbot over a low table).
+        if (!failed.empty() && std::abs(c.free_axis.z()) < kVerticalAxis && at.free_turn_rad > 0) {
+          // The handle in the palm frame, the same however the hand turns about it.
+          const Eigen::Quaterniond to_palm = at.pose.orientation.conjugate();
+          t.keep_above = geometry.swept_points(to_palm * (c.centre - at.pose.position),
+                                               to_palm * c.free_axis, c.width_m / 2);
+          t.floor_z = c.support_z + kSweepClearance;
+        }
+        targets.push_back(std::move(t));
       }
     }
     core::IkOptions ik;
