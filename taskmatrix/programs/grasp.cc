@@ -53,6 +53,7 @@ class Grasp final : public core::TaskProgram {
     stopped_.assign(info.joints.size(), true);  // joints that are no finger segment stay put
     for (const Segment& seg : segments_) stopped_[seg.joint] = false;
     stopped_on_object_.assign(hand_->fingers.size(), false);
+    blocked_by_.clear();
     speed_ = 0.5 * info.speed.velocity;
     t0_ = ctx.time();
   }
@@ -67,6 +68,13 @@ class Grasp final : public core::TaskProgram {
       if (!touches_world(touched)) continue;
       if (std::find(touched.begin(), touched.end(), object_) != touched.end()) {
         stopped_on_object_[seg.finger] = true;
+      } else {
+        for (const std::string& other : touched) {
+          if (std::find(own_bodies_.begin(), own_bodies_.end(), other) == own_bodies_.end() &&
+              std::find(blocked_by_.begin(), blocked_by_.end(), other) == blocked_by_.end()) {
+            blocked_by_.push_back(other);
+          }
+        }
       }
       for (const Segment& inner : segments_) {
         if (inner.finger == seg.finger && inner.index <= seg.index) stopped_[inner.joint] = true;
@@ -127,11 +135,19 @@ class Grasp final : public core::TaskProgram {
       const std::vector<std::string>& reached = ctx.notes(reached_grasp_note(object_, side_));
       std::vector<std::string>& failed = ctx.notes(failed_grasps_note(object_, side_));
       failed.push_back(reached.empty() ? "unknown" : reached.front());
+      std::vector<std::string>& blocked = ctx.notes(blocked_fingers_note(object_, side_));
+      std::string stopped_by;
+      for (const std::string& other : blocked_by_) {
+        stopped_by += (stopped_by.empty() ? "; fingers stopped by '" : ", '") + other + "'";
+        if (std::find(blocked.begin(), blocked.end(), other) == blocked.end()) {
+          blocked.push_back(other);
+        }
+      }
       return fail(core::Failure(core::FailureCode::kGraspFailed,
                                 std::to_string(touching) + " of " +
                                     std::to_string(hand_->fingers.size()) + " fingers of the " +
                                     side_ + " hand touch '" + object_ + "' (need " +
-                                    std::to_string(needed_) + ")"));
+                                    std::to_string(needed_) + ")" + stopped_by));
     }
     skills.attach(object_, side_);
     return core::ProgramState::kCompleted;
@@ -145,6 +161,7 @@ class Grasp final : public core::TaskProgram {
   std::vector<std::string> own_bodies_;  // the hand's finger segments
   std::vector<bool> stopped_;            // per hand joint
   std::vector<bool> stopped_on_object_;  // per finger: a segment stopped touching the object
+  std::vector<std::string> blocked_by_;  // what else stopped a segment
   double speed_ = 1.0;
   double t0_ = 0;
 };

@@ -405,6 +405,10 @@ std::string reached_grasp_note(const std::string& object, const std::string& sid
   return "grasp." + object + "." + side + ".reached";
 }
 
+std::string blocked_fingers_note(const std::string& object, const std::string& side) {
+  return "grasp." + object + "." + side + ".blocked";
+}
+
 std::string failed_grasps_note(const std::string& object, const std::string& side) {
   return "grasp." + object + "." + side + ".failed";
 }

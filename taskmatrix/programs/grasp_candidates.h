@@ -102,9 +102,11 @@ struct GraspCandidate {
 std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object,
                                              const HandGeometry& hand, const Eigen::Vector3d& from);
 
-// Notes (core::ProgramContext::notes) where reach records the candidate it moved to and grasp
-// records the candidates that did not hold.
+// Notes (core::ProgramContext::notes) where reach records the candidate it moved to, and grasp
+// the candidates that did not hold and what other than the object stopped a finger in them
+// (reach then keeps the closing fingers off the surface under the object).
 std::string reached_grasp_note(const std::string& object, const std::string& side);
 std::string failed_grasps_note(const std::string& object, const std::string& side);
+std::string blocked_fingers_note(const std::string& object, const std::string& side);
 
 }  // namespace taskmatrix::programs

@@ -5,9 +5,9 @@
 // (IK, then planning), at two clearances of the palm, with the arm, then torso and arm, then by
 // stepping (ArmMotion); the first plan found is executed and its candidate noted for grasp. The
 // hand may turn about the candidate's free axis (round objects, handles) as far as the grasp
-// allows, whatever the arm; after a grasp that did not hold, only as far as the closing fingers
-// stay over the surface under the object. Exits at once when the object is already graspable
-// by that hand.
+// allows, whatever the arm; after a grasp that did not hold because something else stopped a
+// finger, only as far as the closing fingers stay over the surface under the object. Exits at
+// once when the object is already graspable by that hand.
 #include <algorithm>
 #include <cmath>
 
@@ -96,6 +96,7 @@ class Reach final : public core::TaskProgram {
       return;
     }
     std::vector<ArmTarget> targets;
+    const bool blocked = !ctx.notes(blocked_fingers_note(object_, side_)).empty();
     for (const GraspCandidate& c : candidates_) {
       for (double clearance : kClearances) {
         const GraspCandidate::Placement at = c.place(geometry, clearance);
@@ -105,11 +106,12 @@ class Reach final : public core::TaskProgram {
         t.free_turn_rad = at.free_turn_rad;
         t.tag = c.id;
         // Turning about an axis that is not vertical (a handle's), IK decides how low the
-        // fingers go. After a grasp that did not hold, their closing sweep must stay over the
-        // support. The sweep errs low (fingertips as long as the segment before them, each
-        // finger stopping only when its axis reaches the handle's radius), so it is not asked
-        // of the first grasp: there it kept out grasps that hold (tallbot over a low table).
-        if (!failed.empty() && std::abs(c.free_axis.z()) < kVerticalAxis && at.free_turn_rad > 0) {
+        // fingers go. After a grasp that did not hold because something other than the object
+        // stopped a finger, their closing sweep must stay over the support. The sweep errs low
+        // (fingertips as long as the segment before them, each finger stopping only when its
+        // axis reaches the handle's radius), so it is not asked of every grasp: asked of the
+        // first, it kept out grasps that hold (tallbot over a low table).
+        if (blocked && std::abs(c.free_axis.z()) < kVerticalAxis && at.free_turn_rad > 0) {
           // The handle in the palm frame, the same however the hand turns about it.
           const Eigen::Quaterniond to_palm = at.pose.orientation.conjugate();
           t.keep_above = geometry.swept_points(to_palm * (c.centre - at.pose.position),
