@@ -63,6 +63,17 @@ Scenario generalization_scenario(const std::string& name) {
   return *it;
 }
 
+// Runs the generalization suite's scenario `name` on `robot` in `environment` (that layout and
+// seed) and expects it to succeed.
+TrialResult expect_success(const std::string& name, const std::string& robot,
+                           const std::string& environment, std::uint32_t layout,
+                           std::uint32_t seed) {
+  TrialResult r = run_trial(generalization_scenario(name), *test::loaded_scene(robot, environment),
+                            layout, seed, registry());
+  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  return r;
+}
+
 // Runs the trial (layout, seed) of `s` on `robot` in the kitchen under kinematic execution and
 // expects it to succeed with the base ending more than `min_travel_m` (in the plane) from
 // where it stood at set-up: the robot stepped.
@@ -462,9 +473,7 @@ TEST(VacuumOnMinibot, TheStanceSearchGetsPastPosesFromWhichTheHandleIsOutOfReach
 // arm get minibot's hand round it (`the turn the arm needs is outside what the target
 // allows`). A second pass lets the base move a little from each of the first candidates.
 TEST(VacuumOnMinibot, AStanceBetweenTheCandidatesIsFoundWithTheBaseFreeToMove) {
-  const TrialResult r = run_trial(generalization_scenario("vacuum"),
-                                  *test::loaded_scene("minibot", "kitchen"), 107, 8, registry());
-  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  expect_success("vacuum", "minibot", "kitchen", 107, 8);
 }
 
 // tallbot's fingers are longer than the vacuum's handle is high over the table, and the hand
@@ -475,9 +484,7 @@ TEST(VacuumOnMinibot, AStanceBetweenTheCandidatesIsFoundWithTheBaseFreeToMove) {
 // reach now keeps out poses from which the closing fingers would reach the surface under the
 // object.
 TEST(PositionOnTallbot, AfterAGraspThatDidNotHoldTheFingersCloseOverTheTable) {
-  const TrialResult r = run_trial(generalization_scenario("position"),
-                                  *test::loaded_scene("tallbot", "kitchen"), 104, 5, registry());
-  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  const TrialResult r = expect_success("position", "tallbot", "kitchen", 104, 5);
   const std::vector<TrialEvent> failed = events_of(r, "grasp", "failed");
   EXPECT_GE(failed.size(), 1u) << "the first grasp held: the case is not the one described";
   for (const TrialEvent& e : failed) {  // each failure says what stopped the fingers
@@ -490,9 +497,7 @@ TEST(PositionOnTallbot, AfterAGraspThatDidNotHoldTheFingersCloseOverTheTable) {
 // head touches its own shoulders, and reach stopped with `collision of torso with head`.
 // fixate now takes no head step to within 1 cm of anything, its own body included.
 TEST(PickupOnTallbot, FixateKeepsTheHeadOffTheRobotsOwnBody) {
-  const TrialResult r = run_trial(generalization_scenario("pickup"),
-                                  *test::loaded_scene("tallbot", "office"), 117, 18, registry());
-  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  expect_success("pickup", "tallbot", "office", 117, 18);
 }
 
 // minibot's two fingers close round the cup under physics (kitchen, layout 108 of the
@@ -500,9 +505,7 @@ TEST(PickupOnTallbot, FixateKeepsTheHeadOffTheRobotsOwnBody) {
 // the instant the second stops, and grasp counted 1 of 2 fingers. A finger that stopped on
 // the object now holds it.
 TEST(GraspOnMinibot, AFingerThatStoppedOnTheCupHoldsItThoughItsContactFlickers) {
-  const TrialResult r = run_trial(generalization_scenario("grasp"),
-                                  *test::loaded_scene("minibot", "kitchen"), 108, 9, registry());
-  EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
+  expect_success("grasp", "minibot", "kitchen", 108, 9);
 }
 
 // The paper's retry loop (pickup: reach, grasp; a grasp that does not hold: let go, back off,
