@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -79,6 +80,7 @@ ChainPath::ChainPath(const mjModel* m, const std::vector<int>& joints, int frame
   pos_.resize(3 * bodies_.size());
   quat_.resize(4 * bodies_.size());
   mat_.resize(9 * bodies_.size());
+  inputs_.resize(joint_frames_.size());
 }
 
 core::Pose ChainPath::update(const mjData* d, const mjtNum* qpos) {
@@ -86,11 +88,32 @@ core::Pose ChainPath::update(const mjData* d, const mjtNum* qpos) {
   const mjtNum* ppos = d->xpos + 3 * top_parent_;
   const mjtNum* pquat = d->xquat + 4 * top_parent_;
   const mjtNum* pmat = d->xmat + 9 * top_parent_;
+  // The leading bodies whose inputs (the pose above the path, their joints' values) are bit
+  // for bit those of the last update keep their poses: a joint held still (a base placed by a
+  // stance search) costs nothing per iteration.
+  mjtNum top[16];
+  std::copy(ppos, ppos + 3, top);
+  std::copy(pquat, pquat + 4, top + 3);
+  std::copy(pmat, pmat + 9, top + 7);
+  bool same = updated_ && std::memcmp(top, top_, sizeof top) == 0;
+  std::copy(top, top + 16, top_);
+  updated_ = true;
   JointFrame* frames = joint_frames_.data();
+  mjtNum* inputs = inputs_.data();
   for (size_t k = 0; k < bodies_.size(); ++k) {
-    body_pose_from_parent(m_, qpos, bodies_[k], ppos, pquat, pmat, &pos_[3 * k], &quat_[4 * k],
-                          &mat_[9 * k], frames);
-    frames += m_->body_jntnum[bodies_[k]];
+    const int b = bodies_[k];
+    const int nj = m_->body_jntnum[b];
+    for (int i = 0; i < nj; ++i) {
+      const mjtNum v = qpos[m_->jnt_qposadr[m_->body_jntadr[b] + i]];
+      same = same && std::memcmp(&v, &inputs[i], sizeof v) == 0;
+      inputs[i] = v;
+    }
+    inputs += nj;
+    if (!same) {
+      body_pose_from_parent(m_, qpos, b, ppos, pquat, pmat, &pos_[3 * k], &quat_[4 * k],
+                            &mat_[9 * k], frames);
+    }
+    frames += nj;
     ppos = &pos_[3 * k];
     pquat = &quat_[4 * k];
     pmat = &mat_[9 * k];
@@ -155,6 +178,7 @@ Eigen::Vector3d orientation_error(const Eigen::Quaterniond& target,
 core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vector<int>& joints,
                         const std::string& frame, const core::Pose& target,
                         const IkOptions& options) {
+  mj_kinematics(worker.model(), worker.data());  // a simulation step moves qpos on
   return solve_ik(scene, worker.model(), worker.data(), joints, frame, target, options);
 }
 
@@ -215,7 +239,9 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
     hi[i] = m->jnt_range[2 * j + 1];
   }
   const std::vector<double> saved(d->qpos, d->qpos + m->nq);
-  mj_kinematics(m, d);  // the bodies above the chain are read from here
+  // The bodies above the chain are read from d's kinematics (current for its qpos, the
+  // contract). The iterations write only the chain's qpos, which is restored; only the
+  // collision checker changes d's poses, and then they are recomputed at the end.
   ChainPath path(m, joints, frame.body);
   // Collision checks only for converged solutions: the checker is made on the first.
   std::optional<ValidityChecker> checker;
@@ -267,7 +293,6 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
     const double needed = (target.position - origin).norm();
     if (needed > reach + o.position_tolerance_m) {
       std::copy(saved.begin(), saved.end(), d->qpos);
-      mj_kinematics(m, d);
       result.position_error_m = needed - reach;
       result.orientation_error_rad = 0;
       char buf[200];
@@ -297,6 +322,10 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
   int converged_in_collision = 0;
   Eigen::MatrixXd jac(rows, n);
   Eigen::VectorXd err(rows);
+  // The step's work space, allocated once: an iteration allocates nothing.
+  Eigen::MatrixXd jw(rows, n), jjt(rows, rows);
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(rows);
+  Eigen::VectorXd y(rows), dq(n);
 
   for (int attempt = 0;
        attempt <= o.restarts && static_cast<int>(result.solutions.size()) < o.max_solutions;
@@ -348,7 +377,6 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
           if (!checker) {
             // Bound to the state the query started from.
             std::copy(saved.begin(), saved.end(), d->qpos);
-            mj_kinematics(m, d);
             checker.emplace(scene, m, d, joints, attachments);
           }
           if (checker->in_collision(solution.data())) {
@@ -383,27 +411,26 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
         }
       }
       if (o.orientation && free_axis) jac.bottomRows<3>() = keep * jac.bottomRows<3>();
-      Eigen::VectorXd dq;
-      if (weighted) {
-        const Eigen::MatrixXd jw = jac * weight.asDiagonal();
-        const Eigen::MatrixXd jjt =
-            jw * jac.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(rows, rows);
-        dq = jw.transpose() * jjt.ldlt().solve(err);
-      } else {
-        const Eigen::MatrixXd jjt =
-            jac * jac.transpose() + lambda * lambda * Eigen::MatrixXd::Identity(rows, rows);
-        dq = jac.transpose() * jjt.ldlt().solve(err);
-      }
+      // dq = Jw^T (J Jw^T + lambda^2 I)^-1 err, Jw = J diag(weight) (J itself unweighted).
+      if (weighted) jw.noalias() = jac * weight.asDiagonal();
+      const Eigen::MatrixXd& jl = weighted ? jw : jac;
+      jjt.noalias() = jl * jac.transpose();
+      jjt.diagonal().array() += lambda * lambda;
+      ldlt.compute(jjt);
+      y = ldlt.solve(err);
+      dq.noalias() = jl.transpose() * y;
       const double step = dq.cwiseAbs().maxCoeff();
       if (step > 0.3) dq *= 0.3 / step;  // keep steps in the linear regime
       q = (q + dq).cwiseMax(lo).cwiseMin(hi);
     }
   }
   std::copy(saved.begin(), saved.end(), d->qpos);
-  mj_kinematics(m, d);
-  if (!attachments.empty()) {  // the checker moved held objects' geoms; restore their poses
-    place_attachments(m, d, attachments);
+  if (checker) {  // it posed the chain (and held objects' geoms) in d: restore the poses
     mj_kinematics(m, d);
+    if (!attachments.empty()) {
+      place_attachments(m, d, attachments);
+      mj_kinematics(m, d);
+    }
   }
   result.position_error_m = best_pos;
   result.orientation_error_rad = best_rot;

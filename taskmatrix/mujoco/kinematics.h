@@ -58,18 +58,24 @@ class ChainPath {
   std::vector<int> frame_of_joint_;  // per joint id: index into joint_frames_, -1 off the path
   std::vector<JointFrame> joint_frames_;
   std::vector<mjtNum> pos_, quat_, mat_;
+  // The inputs of the last update(): the pose above the path (position, quaternion, matrix)
+  // and the values of the path's joints, in path order.
+  bool updated_ = false;
+  mjtNum top_[16] = {};
+  std::vector<mjtNum> inputs_;
   const mjtNum* frame_pos_ = nullptr;  // the frame body's, after update()
   const mjtNum* frame_mat_ = nullptr;
 };
 
 // Damped least squares on `joints` (hinge/slide joint ids), clamped to joint limits, from
 // the data's current configuration first and then from seeded random starts. Solutions are
-// collision-checked with `attachments` held. Leaves the data's qpos as it found it.
+// collision-checked with `attachments` held. `d`'s kinematics must be current for its qpos
+// (mj_kinematics since the last change); leaves the data as it found it.
 core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
                         const std::vector<int>& joints, const std::string& frame,
                         const core::Pose& target, const IkOptions& options,
                         const std::vector<Attachment>& attachments = {});
-// The same on a worker's model and data.
+// The same on a worker's model and data (its kinematics brought up to date first).
 core::IkResult solve_ik(const Scene& scene, WorkerScene& worker, const std::vector<int>& joints,
                         const std::string& frame, const core::Pose& target,
                         const IkOptions& options);

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 
 #include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/validity_checker.h"
@@ -425,6 +426,102 @@ TEST_P(IkOnBothRobots, UnreachableAndInvalidTargetsAreReportedAsSuch) {
             core::IkStatus::kInvalidInput);
   EXPECT_EQ(solve_ik(*scene, worker, arm.joints, "no_such_frame", far, options).status,
             core::IkStatus::kInvalidInput);
+}
+
+// IK reuses one ChainPath over its iterations, which recomputes only the bodies below the
+// first whose inputs changed: after any change (the arm's last joint, the base, nothing, all;
+// the pose above an arm-only path moved) it must pose the frame's body exactly as MuJoCo's
+// whole-model kinematics does.
+TEST_P(IkOnBothRobots, AReusedChainPathPosesTheFramesBodyBitForBitAsMujoco) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  const mjModel* m = worker.model();
+  mjData* d = worker.data();
+  DataPtr ref = make_data(m);
+  const ChainIndex& base = scene->chain("base");
+  const ChainIndex& arm = scene->chain("right_arm");
+  const int body = resolve_frame(*scene, d, scene->robot().find_hand("right")->palm).body;
+  std::vector<int> joints = base.joints;
+  joints.insert(joints.end(), arm.joints.begin(), arm.joints.end());
+  std::vector<ChainIndex> chains = {base, arm};
+  mj_kinematics(m, d);
+  ChainPath whole(m, joints, body);
+  ChainPath arm_only(m, arm.joints, body);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  auto draw = [&](const ChainIndex& c, size_t i) {
+    const double lo = std::max(c.lower[i], -2.0), hi = std::min(c.upper[i], 2.0);
+    d->qpos[c.qpos_adr[i]] = lo + (hi - lo) * u(rng);
+  };
+  auto expect_as_mujoco = [&](const core::Pose& pose, int step) {
+    mju_copy(ref->qpos, d->qpos, m->nq);
+    mj_kinematics(m, ref.get());
+    const mjtNum* p = ref->xpos + 3 * body;
+    const mjtNum* q = ref->xquat + 4 * body;
+    EXPECT_EQ(pose.position, Eigen::Vector3d(p[0], p[1], p[2])) << "step " << step;
+    EXPECT_EQ(pose.orientation.coeffs(), Eigen::Quaterniond(q[0], q[1], q[2], q[3]).coeffs())
+        << "step " << step;
+  };
+  int changed_above = 0;
+  for (int step = 0; step < 200; ++step) {
+    switch (step % 4) {
+      case 0: draw(arm, arm.joints.size() - 1); break;
+      case 1: for (size_t i = 0; i < base.joints.size(); ++i) draw(base, i); break;
+      case 2: break;
+      default:
+        for (const ChainIndex& c : chains) for (size_t i = 0; i < c.joints.size(); ++i) draw(c, i);
+    }
+    expect_as_mujoco(whole.update(d), step);
+    // The arm-only path reads the pose above it from d: bring d's kinematics up to date when
+    // the base moved, as IK's caller does.
+    if (step % 4 == 1 || step % 4 == 3) {
+      mj_kinematics(m, d);
+      ++changed_above;
+    }
+    expect_as_mujoco(arm_only.update(d), step);
+  }
+  EXPECT_EQ(changed_above, 100);
+}
+
+// IK writes only the chain's qpos while it iterates and restores it; whether it solved (the
+// collision checker posed the arm in the data), missed, or found the target out of reach, the
+// data's configuration and poses are as they were, bit for bit.
+TEST_P(IkOnBothRobots, LeavesTheDataAsItFoundItWhateverTheOutcome) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  const mjModel* m = worker.model();
+  mjData* d = worker.data();
+  const ChainIndex& arm = scene->chain("right_arm");
+  const std::string palm = scene->robot().find_hand("right")->palm;
+  const std::vector<double> q = valid_sample(*scene, worker, arm, 77);
+  for (size_t i = 0; i < q.size(); ++i) d->qpos[arm.qpos_adr[i]] = q[i];
+  mj_kinematics(m, d);
+  const core::Pose reachable = frame_pose(d, scene->frame(palm));
+  worker.reset_to_start();
+  mj_kinematics(m, d);
+  auto snapshot = [&] {
+    std::vector<mjtNum> s(d->qpos, d->qpos + m->nq);
+    s.insert(s.end(), d->xpos, d->xpos + 3 * m->nbody);
+    s.insert(s.end(), d->xquat, d->xquat + 4 * m->nbody);
+    s.insert(s.end(), d->xmat, d->xmat + 9 * m->nbody);
+    s.insert(s.end(), d->geom_xpos, d->geom_xpos + 3 * m->ngeom);
+    s.insert(s.end(), d->geom_xmat, d->geom_xmat + 9 * m->ngeom);
+    s.insert(s.end(), d->site_xpos, d->site_xpos + 3 * m->nsite);
+    return s;
+  };
+  const std::vector<mjtNum> before = snapshot();
+  core::Pose twisted = reachable;  // in reach, at an orientation the wrist cannot take
+  twisted.orientation = reachable.orientation * Eigen::Quaterniond(0, 0, 1, 0);
+  core::Pose far;
+  far.position = {3.0, 0.0, 1.0};
+  std::set<core::IkStatus> seen;
+  for (const core::Pose& target : {reachable, twisted, far}) {
+    const core::IkResult r = solve_ik(*scene, m, d, arm.joints, palm, target, IkOptions{});
+    seen.insert(r.status);
+    EXPECT_TRUE(before == snapshot()) << core::to_string(r.status) << ": " << r.reason;
+  }
+  EXPECT_EQ(seen.count(core::IkStatus::kSolved), 1u);
+  EXPECT_EQ(seen.count(core::IkStatus::kUnreachable), 1u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, IkOnBothRobots, ::testing::Values("tallbot", "minibot"));
