@@ -44,7 +44,8 @@ class ChainPath {
   bool on_path(int j) const { return frame_of_joint_[j] >= 0; }
   const JointFrame& joint(int j) const { return joint_frames_[frame_of_joint_[j]]; }
   // Poses of the path's bodies from `qpos` (null: d->qpos); the frame body's pose, its
-  // orientation the body quaternion.
+  // orientation the body quaternion. Bodies are recomputed from the first whose inputs (the
+  // pose above the path in `d`, its joints' values) differ, bit for bit, from the last call's.
   core::Pose update(const mjData* d, const mjtNum* qpos = nullptr);
   // After update(): the pose of a frame `offset` from the frame's body, as frame_pose(d, frame)
   // gives it after a whole mj_kinematics.
