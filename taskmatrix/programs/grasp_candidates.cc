@@ -203,8 +203,11 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
     std::vector<std::vector<Eigen::Vector3d>> finger_sweep;
     for (const std::vector<double>& q : sweep) {
       std::vector<Eigen::Vector3d> points;
-      for (const std::string& body : f.bodies) points.push_back(pose_in_palm(q, body).position);
-      const core::Pose end = pose_in_palm(q, f.bodies.back());
+      core::Pose end;  // the last segment's, once the loop is done
+      for (const std::string& body : f.bodies) {
+        end = pose_in_palm(q, body);
+        points.push_back(end.position);
+      }
       points.push_back(end.position + end.orientation * tip_in_last);
       finger_sweep.push_back(std::move(points));
     }
