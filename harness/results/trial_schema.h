@@ -106,7 +106,8 @@ inline constexpr std::array kTrialFields = {
                "collision checks",
                OmplType::kInteger,
                true,
-               "the planners' validity checks and is_valid queries",
+               "the planners' validity checks, the certification of the paths they return, and "
+               "is_valid queries",
                {.label = "collision checks",
                 .format = "%.0f",
                 .compare_groups = true,
@@ -122,7 +123,9 @@ inline constexpr std::array kTrialFields = {
                "the programs' plan requests",
                {.label = "plan calls", .format = "%.0f", .compare_groups = true}},
     TrialField{"planner_runs", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
-               OmplType::kNone, true, "planner runs behind the plan calls (one per pose tried)"},
+               OmplType::kNone, true,
+               "planner runs behind the plan calls (one per pose tried; two where a path touched "
+               "something between checked states and was planned again)"},
     TrialField{"ik_calls", "count", FieldSource::kMeasured, false, FieldSummary::kNone, "",
                OmplType::kNone, true, "inverse kinematics solves"},
     TrialField{"ik_time_s", "s", FieldSource::kMeasured, true, FieldSummary::kNone, "ik time",

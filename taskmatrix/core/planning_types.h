@@ -119,7 +119,8 @@ struct PlanResult {
   double ik_time_s = 0;                  // inverse kinematics for pose goals
   std::uint64_t collision_checks = 0;
   unsigned graph_states = 0;
-  int plan_calls = 0;   // planner runs behind this result (one per pose tried)
+  int plan_calls = 0;   // planner runs behind this result (one per pose tried;
+                        // two where the path was planned again)
   int goal_index = -1;  // which of several goals (poses, for plan_to_poses) was reached
   std::string message;  // bounded: a summary
   std::string detail;   // what the summary leaves out (every IK attempt); may be empty

@@ -15,7 +15,8 @@ struct PlanCallRecord {
   double time_s = 0;           // simulated time of the call
   std::string kind;            // "configuration", "poses", "region"
   std::string status;          // core::to_string(PlanStatus)
-  int planner_runs = 0;        // planner solves behind the call (one per pose tried)
+  int planner_runs = 0;        // planner solves behind the call (one per pose tried;
+                               // two where the path was planned again)
   double planning_time_s = 0;  // planner solve, wall clock
   double simplification_time_s = 0;
   // A clock safety net decided the plan (core::PlanResult): it may differ under load.

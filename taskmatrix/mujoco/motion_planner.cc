@@ -20,6 +20,10 @@ constexpr double kMinRampClearance = 1e-4;
 // How many times closer the checks along a motion are near an endpoint.
 constexpr double kFineChecks = 5;
 constexpr double kMaxTimeLimitS = 86400;  // beyond it, planners' deadline arithmetic overflows
+// Certifying a path: distances are measured up to this far (m), and a piece of a motion that
+// moves no point farther than kCertifyFloor (m) between two contact-free states is accepted.
+constexpr double kCertifyCap = 0.05;
+constexpr double kCertifyFloor = 1e-4;
 
 }  // namespace
 
@@ -198,46 +202,164 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
                                                     : "every goal configuration is in collision");
   }
 
-  std::unique_ptr<core::Planner> planner;
-  try {
-    planner = planners.make(o.planner.name, o.planner.params);
-  } catch (const std::invalid_argument& e) {
-    restore();
-    return fail(core::PlanStatus::kInvalidInput, e.what());
-  }
   const std::uint64_t checks_before = checker.checks() + (touching ? touching->checks() : 0);
+  // Runs the planner on `problem`; "" or why its result cannot be used.
   core::PlannerResult planned;
-  try {
-    planned = planner->solve(problem);
-  } catch (const std::exception& e) {
-    restore();
-    return fail(core::PlanStatus::kInvalidInput,
-                "planner " + o.planner.name + " failed: " + e.what());
+  auto solve = [&]() -> std::string {
+    std::unique_ptr<core::Planner> planner;
+    try {
+      planner = planners.make(o.planner.name, o.planner.params);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    try {
+      planned = planner->solve(problem);
+    } catch (const std::exception& e) {
+      return "planner " + o.planner.name + " failed: " + e.what();
+    }
+    if (planned.status == core::PlannerStatus::kExactSolution ||
+        planned.status == core::PlannerStatus::kApproximateSolution) {
+      const bool malformed =
+          planned.path.empty() ||
+          std::any_of(planned.path.begin(), planned.path.end(), [n](const core::Configuration& q) {
+            return q.size() != n ||
+                   !std::all_of(q.begin(), q.end(), [](double v) { return std::isfinite(v); });
+          });
+      if (malformed) {
+        return "planner " + o.planner.name +
+               " returned a path that is empty or has a waypoint of the wrong size or not finite";
+      }
+      for (core::Configuration& q : planned.path) {
+        // Within the joint limits exactly (goals may lie up to core::kLimitRounding outside).
+        for (size_t i = 0; i < n; ++i) q[i] = std::clamp(q[i], lo[i], hi[i]);
+      }
+    }
+    result.planning_time_s += planned.planning_time_s;
+    result.simplification_time_s += planned.simplification_time_s;
+    result.plan_calls += 1;
+    result.planner_iterations += planned.iterations;
+    result.planning_hit_time_limit |= planned.hit_time_limit;
+    result.simplification_hit_time_limit |= planned.simplification_hit_time_limit;
+    if (const auto g = planned.statistics.find("graph_states"); g != planned.statistics.end()) {
+      result.graph_states += static_cast<unsigned>(g->second);
+    }
+    return "";
+  };
+
+  // The planner checks states along its motions a resolution apart; between two checked states
+  // the robot may still graze something (a hand's far end moves centimetres per check). The
+  // path it returns is certified contact-free along every straight segment: the distance to
+  // contact at a state bounds how far the robot can move from it without touching anything
+  // (ValidityChecker::joint_reach bounds how far a motion moves it), so a piece of a segment
+  // is safe when its motion is within the sum of its ends' distances, and is halved until it
+  // is (conservative advancement). Where a contact is found, the problem is planned again
+  // with checks close enough for the clearance every checked state keeps to certify the space
+  // between them, and that path is certified in turn.
+  const std::vector<double>& reach = checker.joint_reach();
+  const std::vector<std::vector<char>>& groups = checker.clearance_groups();
+  // Both checkers were built for the same joints and attachments: the same groups.
+  if (touching && touching->clearance_groups() != groups) {
+    throw std::logic_error("motion planner: checkers with different clearance groups");
   }
-  if (planned.status == core::PlannerStatus::kExactSolution ||
-      planned.status == core::PlannerStatus::kApproximateSolution) {
-    const bool malformed =
-        planned.path.empty() ||
-        std::any_of(planned.path.begin(), planned.path.end(), [n](const core::Configuration& q) {
-          return q.size() != n ||
-                 !std::all_of(q.begin(), q.end(), [](double v) { return std::isfinite(v); });
-        });
-    if (malformed) {
-      restore();
-      return fail(core::PlanStatus::kInvalidInput,
-                  "planner " + o.planner.name +
-                      " returned a path that is empty or has a waypoint of the wrong size or "
-                      "not finite");
+  // The clearances of the groups `wanted` names at `v`; false if a pair is in contact.
+  auto clearances_at = [&](const double* v, const std::vector<char>& wanted,
+                           std::vector<double>& out) {
+    ValidityChecker& c = start_touches_allowed && near(v, start) ? *touching : checker;
+    if (!c.clearances_to_contact(v, kCertifyCap, wanted, out)) return false;
+    return std::all_of(out.begin(), out.end(), [](double x) { return x >= 0; });
+  };
+  auto describe_contact_at = [&](const core::Configuration& q) {
+    for (size_t i = 0; i < n; ++i) d->qpos[m->jnt_qposadr[joints_[i]]] = q[i];
+    return describe_robot_contacts(scene_, m, d, attachments_);
+  };
+  // The first state found in contact along the path (empty if none).
+  auto contact_along = [&](const std::vector<core::Configuration>& path) {
+    const size_t ng = groups.size();
+    std::vector<double> motion(ng);  // per group: the most its pairs' distances change
+    std::vector<char> wanted(ng);
+    std::vector<double> c0, c1, cm;
+    std::vector<double> q(n);
+    struct Piece {
+      double t0, t1;
+      std::vector<double> c0, c1;
+    };
+    std::vector<Piece> pieces;
+    for (size_t k = 0; k + 1 < path.size(); ++k) {
+      const core::Configuration& a = path[k];
+      const core::Configuration& b = path[k + 1];
+      bool moves = false;
+      for (size_t g = 0; g < ng; ++g) {
+        motion[g] = 0;
+        for (size_t i = 0; i < n; ++i) {
+          if (groups[g][i]) motion[g] += reach[i] * std::abs(b[i] - a[i]);
+        }
+        wanted[g] = motion[g] > 0;
+        moves = moves || wanted[g];
+      }
+      if (!moves) continue;
+      if (!clearances_at(a.data(), wanted, c0)) return a;
+      if (!clearances_at(b.data(), wanted, c1)) return b;
+      pieces.assign(1, Piece{0, 1, c0, c1});
+      while (!pieces.empty()) {
+        Piece p = std::move(pieces.back());
+        pieces.pop_back();
+        bool safe = true;
+        for (size_t g = 0; g < ng && safe; ++g) {
+          const double moved = motion[g] * (p.t1 - p.t0);
+          safe = !wanted[g] || moved <= p.c0[g] + p.c1[g] || moved <= kCertifyFloor;
+        }
+        if (safe) continue;
+        const double tm = 0.5 * (p.t0 + p.t1);
+        for (size_t i = 0; i < n; ++i) q[i] = a[i] + tm * (b[i] - a[i]);
+        if (!clearances_at(q.data(), wanted, cm)) return core::Configuration(q);
+        pieces.push_back(Piece{tm, p.t1, cm, std::move(p.c1)});
+        pieces.push_back(Piece{p.t0, tm, std::move(p.c0), cm});
+      }
+    }
+    return core::Configuration{};
+  };
+
+  std::string unusable = solve();
+  std::string grazed;
+  auto has_path = [&] {
+    return unusable.empty() && (planned.status == core::PlannerStatus::kExactSolution ||
+                                planned.status == core::PlannerStatus::kApproximateSolution);
+  };
+  if (has_path()) {
+    core::Configuration contact = contact_along(planned.path);
+    if (!contact.empty()) {
+      grazed = describe_contact_at(contact);
+      // Checks close enough that two states with the clearance asked for certify the motion
+      // between them (as far as joint_reach bounds it), and at least twice as close as before.
+      double reach_norm = 0;
+      for (double r : reach) reach_norm += r * r;
+      reach_norm = std::sqrt(reach_norm);
+      const double extent = core::space_extent(problem);
+      const double spacing = 2 * std::max(clearance, kCertifyFloor) / reach_norm;
+      problem.motion_resolution = std::min(o.motion_resolution / 2, spacing / extent);
+      if (problem.fine_resolution > 0)
+        problem.fine_resolution = problem.motion_resolution / kFineChecks;
+      unusable = solve();
+      if (has_path()) {
+        contact = contact_along(planned.path);
+        if (!contact.empty()) {
+          char buf[160];
+          std::snprintf(buf, sizeof buf,
+                        "; planned again with checks every %.3g of the joint space's extent, "
+                        "it touches: ",
+                        problem.motion_resolution);
+          const std::string message =
+              "the path found touches something between the states the planner checked: " + grazed +
+              buf + describe_contact_at(contact);
+          restore();
+          return fail(core::PlanStatus::kPlanningFailed, message);
+        }
+      }
     }
   }
-  result.planning_time_s = planned.planning_time_s;
-  result.simplification_time_s = planned.simplification_time_s;
-  result.plan_calls = 1;
-  result.planner_iterations = planned.iterations;
-  result.planning_hit_time_limit = planned.hit_time_limit;
-  result.simplification_hit_time_limit = planned.simplification_hit_time_limit;
-  if (const auto g = planned.statistics.find("graph_states"); g != planned.statistics.end()) {
-    result.graph_states = static_cast<unsigned>(g->second);
+  if (!unusable.empty()) {
+    restore();
+    return fail(core::PlanStatus::kInvalidInput, unusable);
   }
   result.message = planned.message;
   switch (planned.status) {
@@ -276,11 +398,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
 
   if (result.status == core::PlanStatus::kExactSolution ||
       result.status == core::PlanStatus::kApproximateSolution) {
-    for (std::vector<double> q : planned.path) {
-      // Within the joint limits exactly (goals may lie up to core::kLimitRounding outside).
-      for (size_t i = 0; i < n; ++i) q[i] = std::clamp(q[i], lo[i], hi[i]);
-      result.path.push_back(std::move(q));
-    }
+    result.path = planned.path;
     // Which goal the path ends at.
     for (size_t k = 0; k < goal_index_of_state.size(); ++k) {
       const std::vector<double>& g = problem.goals[k];

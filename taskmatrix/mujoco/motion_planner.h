@@ -2,8 +2,9 @@
 // (taskmatrix/core/motion_planning.h; built-in: OMPL's, taskmatrix/ompl, and the project's,
 // taskmatrix/planners): this backend checks the request (sizes, NaN, limits, a start in
 // collision), poses the problem with ValidityChecker's verdicts and the clearance it asks
-// for, counts the collision checks, keeps paths within the joint limits, and gives a status
-// in which only an exact solution succeeds.
+// for, counts the collision checks, keeps paths within the joint limits, certifies the path
+// returned between the states the planner checked (planning again with closer checks where it
+// touches something there), and gives a status in which only an exact solution succeeds.
 #pragma once
 
 #include <cstdint>

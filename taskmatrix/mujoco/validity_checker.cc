@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -226,6 +227,109 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
       }
     }
   }
+  moving_ = std::move(moving);
+  object_of_ = std::move(object_of);
+}
+
+void ValidityChecker::compute_clearance_groups() {
+  if (joint_reach_.size() == joints_.size()) return;
+  const mjModel* m = m_;
+  const std::vector<char>& moving = moving_;
+  const std::vector<int>& object_of = object_of_;
+  auto norm3 = [](const mjtNum* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  // How far body b's origin can be from its parent's: its offset, plus twice each hinge's
+  // anchor offset (the origin turns about the anchor), plus each slide's farthest travel.
+  auto origin_offset = [&](int b) {
+    double offset = norm3(m->body_pos + 3 * b);
+    for (int k = 0; k < m->body_jntnum[b]; ++k) {
+      const int j = m->body_jntadr[b] + k;
+      if (m->jnt_type[j] == mjJNT_HINGE) offset += 2 * norm3(m->jnt_pos + 3 * j);
+      if (m->jnt_type[j] == mjJNT_SLIDE) {
+        offset += std::max(std::abs(m->jnt_range[2 * j]), std::abs(m->jnt_range[2 * j + 1]));
+      }
+    }
+    return offset;
+  };
+  // reach[b]: the farthest any point of a geom of b's subtree (and of what it holds) can be
+  // from b's origin. Children follow their parents in MuJoCo's body order: visit in reverse,
+  // held objects first (their pose in the holder's frame is fixed; no joints inside them).
+  std::vector<double> reach(m->nbody, 0.0);
+  auto add_geoms = [&](int b) {
+    for (int k = 0; k < m->body_geomnum[b]; ++k) {
+      const int g = m->body_geomadr[b] + k;
+      reach[b] = std::max(reach[b], norm3(m->geom_pos + 3 * g) + m->geom_rbound[g]);
+    }
+  };
+  for (int b = m->nbody - 1; b > 0; --b) {
+    if (object_of[b] < 0) continue;
+    add_geoms(b);
+    const int parent = m->body_parentid[b];
+    if (object_of[parent] >= 0)
+      reach[parent] = std::max(reach[parent], origin_offset(b) + reach[b]);
+  }
+  for (int b = m->nbody - 1; b > 0; --b) {
+    if (!moving[b]) continue;
+    add_geoms(b);
+    for (const Attachment& a : attachments_) {
+      if (a.holder_body == b) reach[b] = std::max(reach[b], norm3(a.pos.data()) + reach[a.body]);
+    }
+    const int parent = m->body_parentid[b];
+    if (moving[parent]) reach[parent] = std::max(reach[parent], origin_offset(b) + reach[b]);
+  }
+  joint_reach_.clear();
+  for (int j : joints_) {
+    joint_reach_.push_back(
+        m->jnt_type[j] == mjJNT_SLIDE ? 1.0 : norm3(m->jnt_pos + 3 * j) + reach[m->jnt_bodyid[j]]);
+  }
+
+  // The moving joints at or above each body (a held object's: its holder's); parents first.
+  const size_t nj = joints_.size();
+  std::vector<std::vector<char>> above(m->nbody, std::vector<char>(nj, 0));
+  for (int b = 1; b < m->nbody; ++b) {
+    if (!moving[b]) continue;
+    above[b] = above[m->body_parentid[b]];
+    for (size_t i = 0; i < nj; ++i) {
+      if (m->jnt_bodyid[joints_[i]] == b) above[b][i] = 1;
+    }
+  }
+  auto joints_above = [&](int b) -> const std::vector<char>& {
+    return above[object_of[b] >= 0 ? attachments_[static_cast<size_t>(object_of[b])].holder_body
+                                   : b];
+  };
+  std::map<std::vector<char>, int> index;
+  auto group_of = [&](const GeomPair& p) {
+    std::vector<char> mask = joints_above(m->geom_bodyid[p.g1]);
+    const std::vector<char>& other = joints_above(m->geom_bodyid[p.g2]);
+    for (size_t i = 0; i < nj; ++i) mask[i] = mask[i] != other[i];
+    const auto [it, added] = index.emplace(mask, static_cast<int>(clearance_groups_.size()));
+    if (added) clearance_groups_.push_back(std::move(mask));
+    return it->second;
+  };
+  changing_pair_group_.clear();
+  for (const GeomPair& p : changing_pairs_) changing_pair_group_.push_back(group_of(p));
+  for (AttachedPair& p : attached_pairs_) p.group = group_of(p.pair);
+}
+
+bool ValidityChecker::clearances_to_contact(const double* values, double cap_m,
+                                            const std::vector<char>& wanted,
+                                            std::vector<double>& clearances) {
+  compute_clearance_groups();
+  clearances.assign(clearance_groups_.size(), cap_m);
+  if (!begin_check(values)) return false;
+  // Each pair is measured only up to its group's smallest clearance so far.
+  auto visit = [&](const GeomPair& p, double tolerance, int group) {
+    if (!wanted[static_cast<size_t>(group)]) return;
+    double& clearance = clearances[static_cast<size_t>(group)];
+    // MuJoCo's distance below which the pair counts as in contact.
+    const double contact_at = tolerance > 0 ? -tolerance : p.margin;
+    const double dist = pair_distance(p, std::max(contact_at + clearance, 1e-9));
+    clearance = std::min(clearance, dist - contact_at);
+  };
+  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
+    visit(changing_pairs_[k], changing_pair_tolerance_[k], changing_pair_group_[k]);
+  }
+  for (const AttachedPair& p : attached_pairs_) visit(p.pair, p.tolerance, p.group);
+  return true;
 }
 
 void ValidityChecker::group_changing_pairs() {
@@ -248,8 +352,7 @@ void ValidityChecker::group_changing_pairs() {
   for (size_t k = 0; k < changing_pairs_.size(); ++k) {
     const GeomPair& p = changing_pairs_[k];
     const bool bounded = m->geom_rbound[p.g1] > 0 && m->geom_rbound[p.g2] > 0;
-    const bool both_move =
-        local[m->geom_bodyid[p.g1]] >= 0 && local[m->geom_bodyid[p.g2]] >= 0;
+    const bool both_move = local[m->geom_bodyid[p.g1]] >= 0 && local[m->geom_bodyid[p.g2]] >= 0;
     if (!bounded || both_move) {
       ungrouped_pairs_.push_back(static_cast<int>(k));
       continue;
@@ -269,8 +372,8 @@ void ValidityChecker::group_changing_pairs() {
     g.margin = std::max(g.margin, p.margin);
     g.with_world = g.with_world || changing_pair_with_world_[k];
     // The moving side's radius about its body's origin (rigid: the same at every check).
-    g.radius = std::max(g.radius, mju_dist3(d->geom_xpos + 3 * gm, d->xpos + 3 * bm) +
-                                      m->geom_rbound[gm]);
+    g.radius =
+        std::max(g.radius, mju_dist3(d->geom_xpos + 3 * gm, d->xpos + 3 * bm) + m->geom_rbound[gm]);
     Box& b = fixed_box[gi];
     for (int a = 0; a < 3; ++a) {
       b.lo[a] = std::min(b.lo[a], d->geom_xpos[3 * gf + a] - m->geom_rbound[gf]);

@@ -102,6 +102,32 @@ class ValidityChecker {
   // floor and not the robot itself (held objects count as the robot's).
   double distance_to_world(const double* values, double cap_m);
 
+  // Pairs that can change, grouped by the moving joints that change their relative pose: those
+  // moving exactly one of the two geoms (a joint moving both moves them rigidly together). A
+  // straight motion changing joint i by dq_i changes the distance of any pair of group g by at
+  // most the sum over g's joints of joint_reach()[i] |dq_i|.
+  // clearance_groups()[g][i]: whether moving joint i (moving_joints' order) is in group g.
+  // Computed on first use (as is joint_reach()).
+  const std::vector<std::vector<char>>& clearance_groups() {
+    compute_clearance_groups();
+    return clearance_groups_;
+  }
+  // Per group that `wanted` names (0 or 1 per group), how far (m) its pair closest to counting
+  // as a contact is from it: the smallest distance by which MuJoCo's narrow phase would have to
+  // come closer before in_collision counted the pair (its margin, or the penetration its
+  // tolerance allows), capped at `cap_m`; `cap_m` for groups not wanted. Negative: in contact.
+  // False when the bound state is in static collision (nothing measured). A check (adds to
+  // checks()).
+  bool clearances_to_contact(const double* values, double cap_m, const std::vector<char>& wanted,
+                             std::vector<double>& clearances);
+  // Per moving joint (moving_joints' order): the most any point of a geom it moves (held
+  // objects included) can move per unit of it (m/rad or m/m), in any configuration: from the
+  // model's body offsets, joint anchors, slide ranges and geom bounding radii.
+  const std::vector<double>& joint_reach() {
+    compute_clearance_groups();
+    return joint_reach_;
+  }
+
   std::uint64_t checks() const { return checks_; }
   size_t changing_pair_count() const { return changing_pairs_.size(); }
   std::uint64_t narrow_phase_calls() const { return narrow_calls_; }
@@ -110,7 +136,10 @@ class ValidityChecker {
   struct AttachedPair {
     GeomPair pair;
     double tolerance;  // allowed penetration
+    int group = -1;    // index into clearance_groups_
   };
+  // joint_reach_, clearance_groups_ and the pairs' groups, once.
+  void compute_clearance_groups();
   void set_values(const double* values);
   void update_moving_kinematics();
   void place_attached(const Attachment& a);
@@ -132,6 +161,11 @@ class ValidityChecker {
   std::vector<GeomPair> changing_pairs_;
   std::vector<char> changing_pair_with_world_;   // per changing pair: one geom is not the robot's
   std::vector<double> changing_pair_tolerance_;  // per changing pair: allowed penetration
+  std::vector<int> changing_pair_group_;         // per changing pair: its clearance group
+  std::vector<double> joint_reach_;
+  std::vector<std::vector<char>> clearance_groups_;
+  std::vector<char> moving_;    // per body: moved by the moving joints
+  std::vector<int> object_of_;  // per body: the attachment whose object it belongs to, or -1
   // The changing pairs as the checks visit them: pairs of a moving body's geoms with the geoms
   // of one body that does not move are grouped, and a group whose two bounding spheres (the
   // moving body's about its origin, the other body's fixed for the checker's life) are farther
@@ -140,10 +174,10 @@ class ValidityChecker {
   struct PairGroup {
     int moving_body = -1;
     double fixed_center[3] = {0, 0, 0};
-    double radius = 0;         // both spheres' radii
-    double margin = 0;         // the largest pair margin
-    bool with_world = false;   // some pair gets the planning margin
-    std::vector<int> pairs;    // indices into changing_pairs_
+    double radius = 0;        // both spheres' radii
+    double margin = 0;        // the largest pair margin
+    bool with_world = false;  // some pair gets the planning margin
+    std::vector<int> pairs;   // indices into changing_pairs_
   };
   std::vector<int> ungrouped_pairs_;
   std::vector<PairGroup> pair_groups_;

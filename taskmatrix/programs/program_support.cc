@@ -125,12 +125,15 @@ core::Failure plan_failure(const core::PlanResult& plan) {
   return core::Failure(core::failure_code(plan.status), plan.message);
 }
 
-std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
-                                    double distance_m, bool always) {
+namespace {
+
+constexpr double kEscapeMaxJointStep = 0.3;       // rad (or m) per escape step
+constexpr double kEscapeMaxPalmDeviation = 0.01;  // m, halfway through an escape step
+
+}  // namespace
+
+std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::string& side) {
   core::Skillset& skills = ctx.skills();
-  const core::HandSpec* hand = skills.profile().find_hand(side);
-  if (!hand) return std::nullopt;
-  const std::string arm = arm_of(side);
   std::vector<std::string> held, touched;
   for (const std::string& o : skills.attached_objects()) {
     if (skills.holder_of(o) == side) held.push_back(o);
@@ -146,7 +149,21 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
       if (ctx.percepts().knows(other)) add(other);  // the world, not the hand
     }
   }
-  for (const core::Collision& c : skills.collisions({arm})) add(c.other);
+  for (const core::Collision& c : skills.collisions({arm_of(side)})) add(c.other);
+  return touched;
+}
+
+std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
+                                    double distance_m, bool always) {
+  core::Skillset& skills = ctx.skills();
+  const core::HandSpec* hand = skills.profile().find_hand(side);
+  if (!hand) return std::nullopt;
+  const std::string arm = arm_of(side);
+  std::vector<std::string> held;
+  for (const std::string& o : skills.attached_objects()) {
+    if (skills.holder_of(o) == side) held.push_back(o);
+  }
+  const std::vector<std::string> touched = touched_by_arm(ctx, side);
   if (touched.empty() && !always) return std::nullopt;
   const core::Pose palm = skills.frame_pose(hand->palm);
   const Eigen::Vector3d approach(hand->approach[0], hand->approach[1], hand->approach[2]);
@@ -178,24 +195,46 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   const std::vector<double> from = clamped_configuration(skills, {arm});
   const double lowest_now = lowest_held_point(from);
   std::vector<std::vector<double>> path = {from};
+  // Each step moves the palm a few centimetres along `direction`: a solution that turns a joint
+  // farther than kEscapeMaxJointStep, or whose straight motion from the step before carries the
+  // palm off that line, is another posture of the arm, and moving to it would swing the arm
+  // through what surrounds it (execution checks an escape's motion, the planner does not).
+  Eigen::Vector3d palm_before = palm.position;
+  auto stays_near = [&](const std::vector<double>& q, const Eigen::Vector3d& palm_target) {
+    const std::vector<double>& before = path.back();
+    std::vector<double> middle(q.size());
+    for (size_t i = 0; i < q.size(); ++i) {
+      if (std::abs(q[i] - before[i]) > kEscapeMaxJointStep) return false;
+      middle[i] = 0.5 * (q[i] + before[i]);
+    }
+    const core::Pose at = skills.frame_pose_at({arm}, middle, hand->palm);
+    return (at.position - 0.5 * (palm_before + palm_target)).norm() <= kEscapeMaxPalmDeviation;
+  };
   for (double share : {0.5, 1.0}) {
     core::Pose target = palm;
     target.position += share * distance_m * direction;
     ik.seed = ctx.next_seed();
     ik.orientation = true;
+    ik.start = path.back();
     core::IkResult r = skills.solve_ik({arm}, hand->palm, target, ik);
+    if (!r.solutions.empty() && !stays_near(r.solutions.front(), target.position)) {
+      r.solutions.clear();
+    }
     if (r.solutions.empty()) {
       // An arm that cannot keep the hand's orientation exactly (five joints) keeps it as
       // near as damped least squares from here does, unless that tips what it holds down.
       ik.orientation = false;
       r = skills.solve_ik({arm}, hand->palm, target, ik);
-      if (!r.solutions.empty() && !held.empty() && std::isfinite(lowest_now) &&
-          lowest_held_point(r.solutions.front()) < lowest_now + 0.25 * share * distance_m) {
+      if (!r.solutions.empty() &&
+          ((!held.empty() && std::isfinite(lowest_now) &&
+            lowest_held_point(r.solutions.front()) < lowest_now + 0.25 * share * distance_m) ||
+           !stays_near(r.solutions.front(), target.position))) {
         r.solutions.clear();
       }
     }
     if (r.solutions.empty()) break;
     path.push_back(r.solutions.front());
+    palm_before = target.position;
   }
   if (path.size() < 2) return std::nullopt;
   Escape e;
@@ -210,19 +249,27 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
 std::optional<core::Failure> MotionStage::plan_to_configuration(
     core::ProgramContext& ctx, const std::vector<std::string>& chains,
     const std::vector<double>& goal) {
-  for (const std::string& c : chains) {
-    if (core::chain_kind(c) != "arm") continue;
-    std::optional<Escape> escape = escape_motion(ctx, single_side({c}), 0.05);
-    if (!escape) continue;
-    pending_ctx_ = &ctx;
-    pending_chains_ = chains;
-    pending_goal_ = goal;
-    for (const std::string& t : escape->touched) {
+  auto allow = [&](const std::vector<std::string>& touched) {
+    for (const std::string& t : touched) {
       if (std::find(execution.may_touch.begin(), execution.may_touch.end(), t) ==
           execution.may_touch.end()) {
         execution.may_touch.push_back(t);
       }
     }
+  };
+  for (const std::string& c : chains) {
+    if (core::chain_kind(c) != "arm") continue;
+    std::optional<Escape> escape = escape_motion(ctx, single_side({c}), 0.05);
+    if (!escape) {
+      // An arm against something that cannot move straight off it: the planner starts from
+      // the contact (it may touch what the start touches, near the start only).
+      allow(touched_by_arm(ctx, single_side({c})));
+      continue;
+    }
+    pending_ctx_ = &ctx;
+    pending_chains_ = chains;
+    pending_goal_ = goal;
+    allow(escape->touched);
     escape->options.may_touch = execution.may_touch;  // and what the planned motion may touch
     follow(ctx, escape->chains, std::move(escape->motion), escape->options);
     return std::nullopt;
@@ -378,6 +425,14 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
     motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
     phase_ = Phase::kEscaping;
     return std::nullopt;
+  }
+  // Against something it cannot move straight off: the planner starts from the contact (it
+  // may touch what the start touches, near the start only).
+  for (const std::string& t : touched_by_arm(ctx, side)) {
+    if (std::find(motion_.execution.may_touch.begin(), motion_.execution.may_touch.end(), t) ==
+        motion_.execution.may_touch.end()) {
+      motion_.execution.may_touch.push_back(t);
+    }
   }
   phase_ = Phase::kReaching;
   std::optional<core::Failure> failure = reach_from_here(ctx);

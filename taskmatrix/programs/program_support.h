@@ -79,6 +79,9 @@ struct Escape {
   core::ExecutionOptions options;
   std::vector<std::string> touched;
 };
+// What the arm on `side`, its hand or what it holds touches (not the hand itself, not what it
+// holds), by name.
+std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::string& side);
 // The escape for the arm on `side` if its hand or held object touches something (anything
 // but the hand itself), or always with `always`; nullopt when nothing is touched or the arm
 // cannot move that way. `distance_m`: how far.

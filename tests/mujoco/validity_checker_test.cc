@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
+#include "taskmatrix/mujoco/attachments.h"
+#include "taskmatrix/mujoco/kinematics.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::mujoco {
@@ -145,6 +148,157 @@ TEST(ValidityChecker, AStartInCollisionIsReportedAsStaticCollision) {
   EXPECT_TRUE(arm_checker.static_collision());
   EXPECT_TRUE(raw_robot_in_collision(*scene, worker.model(), worker.data()));
 }
+
+// The clearances and per-joint reach a planned path is certified with (MotionPlanner): on both
+// robots, moving base, torso and arm, holding the cup in the left hand.
+class ClearanceOnBothRobots : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ClearanceOnBothRobots, BoundHowFarTheRobotAndWhatItHoldsCanMoveWithoutTouching) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene), probe(scene);
+  const core::ObstacleLayout layout = core::generate_layout(scene->layout_request(8), 5);
+  worker.apply_layout(layout);
+  probe.apply_layout(layout);
+  worker.reset_to_start();
+  probe.reset_to_start();
+  const mjModel* m = worker.model();
+  mjData* d = worker.data();
+  // The cup in the left hand, 25 cm out from the palm along the hand's approach axis (as a
+  // long tool would be: beyond the fingers).
+  const int cup = mj_name2id(m, mjOBJ_BODY, "cup");
+  ASSERT_GT(cup, 0);
+  const core::HandSpec* hand = scene->robot().find_hand("left");
+  const BodyFrame palm = resolve_frame(*scene, d, hand->palm);
+  const core::Pose at = frame_pose(d, palm);
+  const Eigen::Vector3d cup_at =
+      at.position + at.orientation *
+                        Eigen::Vector3d(hand->approach[0], hand->approach[1], hand->approach[2]) *
+                        0.25;
+  mju_copy3(d->qpos + m->jnt_qposadr[m->body_jntadr[cup]], cup_at.data());
+  mj_forward(m, d);
+  const std::vector<Attachment> held = {attachment_at(*scene, m, d, cup, palm.body, "cup", "left")};
+  const Sampler sampler(*scene, {"base", "torso", "left_arm"});
+  ValidityChecker checker(*scene, m, d, sampler.joints, held);
+  ASSERT_FALSE(checker.static_collision());
+  ASSERT_EQ(describe_robot_contacts(*scene, m, d, held), "no contact");
+  const std::vector<double> reach = checker.joint_reach();
+  const std::vector<std::vector<char>> groups = checker.clearance_groups();
+  ASSERT_EQ(reach.size(), sampler.joints.size());
+  const std::vector<char> all(groups.size(), 1);
+  // Per geom, its centre and the six points where its local axes leave its bounding sphere,
+  // as the probe poses them (the checker poses only what moves).
+  auto sphere_points = [&](const std::vector<double>& q) {
+    for (size_t i = 0; i < q.size(); ++i)
+      probe.data()->qpos[probe.model()->jnt_qposadr[sampler.joints[i]]] = q[i];
+    mj_kinematics(probe.model(), probe.data());
+    place_attachments(probe.model(), probe.data(), held);
+    mj_kinematics(probe.model(), probe.data());
+    std::vector<Eigen::Vector3d> points;
+    for (int g = 0; g < m->ngeom; ++g) {
+      const Eigen::Vector3d c(probe.data()->geom_xpos + 3 * g);
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(
+          probe.data()->geom_xmat + 9 * g);
+      points.push_back(c);
+      for (int axis = 0; axis < 3; ++axis) {
+        points.push_back(c + m->geom_rbound[g] * rot.col(axis));
+        points.push_back(c - m->geom_rbound[g] * rot.col(axis));
+      }
+    }
+    return points;
+  };
+  std::mt19937_64 rng(99);
+  std::normal_distribution<double> gauss(0, 1);
+  int touching = 0, advanced = 0, jumps = 0;
+  for (int s = 0; s < 3000; ++s) {
+    const std::vector<double> q = sampler.draw(rng);
+    std::vector<double> clearances;
+    ASSERT_TRUE(checker.clearances_to_contact(q.data(), 0.05, all, clearances));
+    const bool in_contact =
+        std::any_of(clearances.begin(), clearances.end(), [](double c) { return c < 0; });
+    ASSERT_EQ(in_contact, checker.in_collision(q.data())) << GetParam() << ", sample " << s;
+    touching += in_contact;
+    // A step in a random direction (every other sample along one joint, so that no joint's
+    // reach hides behind another's), as long as every group's clearance allows (90% of it).
+    std::vector<double> dq(q.size(), 0.0);
+    if (s % 2 == 0) {
+      dq[static_cast<size_t>(s / 2) % dq.size()] = gauss(rng);
+    } else {
+      for (double& v : dq) v = gauss(rng);
+    }
+    double scale = 0.2;  // at most this far (rad or m) along any joint
+    for (double v : dq) {
+      if (v != 0) scale = std::min(scale, 0.2 / std::abs(v));
+    }
+    for (size_t g = 0; g < groups.size() && !in_contact; ++g) {
+      double per_unit = 0;
+      for (size_t i = 0; i < q.size(); ++i) per_unit += groups[g][i] * reach[i] * std::abs(dq[i]);
+      if (per_unit > 0) scale = std::min(scale, 0.9 * clearances[g] / per_unit);
+    }
+    std::vector<double> q2(q.size());
+    double bound = 0;
+    for (size_t i = 0; i < q.size(); ++i) {
+      q2[i] = q[i] + scale * dq[i];
+      bound += reach[i] * std::abs(q2[i] - q[i]);
+    }
+    // No point of what moves goes farther than joint_reach says.
+    const std::vector<Eigen::Vector3d> a = sphere_points(q), b = sphere_points(q2);
+    for (size_t k = 0; k < a.size(); ++k) {
+      ASSERT_LE((a[k] - b[k]).norm(), bound + 1e-9) << "geom " << k / 7 << ", sample " << s;
+    }
+    if (in_contact) continue;
+    // Within its clearances the robot touches nothing, unless MuJoCo's own narrow phase jumps:
+    // 2.2.2's capsule-box function reports a capsule beside a box's edge 1 cm away, then 6 cm
+    // deep 0.3 mm further (a thigh under a table top), a contact deeper than the step could
+    // make it.
+    if (checker.in_collision(q2.data())) {
+      sphere_points(q2);
+      mj_collision(probe.model(), probe.data());
+      double deepest = 0;
+      for (int i = 0; i < probe.data()->ncon; ++i) {
+        const mjContact& c = probe.data()->contact[i];
+        if (counts_as_robot_collision(*scene, probe.model(), c, held))
+          deepest = std::max(deepest, -c.dist);
+      }
+      EXPECT_GT(deepest, bound) << GetParam() << ", sample " << s << ": "
+                                << describe_robot_contacts(*scene, m, d, held);
+      ++jumps;
+      continue;
+    }
+    advanced += scale > 0;
+  }
+  // Both cases occur often enough to mean something.
+  EXPECT_GT(touching, 300);
+  EXPECT_GT(advanced, 300);
+  EXPECT_LE(jumps, 3);
+}
+
+TEST_P(ClearanceOnBothRobots, PairsMovedTogetherByTheBaseAreNotInTheBasesGroups) {
+  auto scene = test::scene(GetParam(), "office");
+  WorkerScene worker(scene);
+  worker.reset_to_start();
+  const Sampler sampler(*scene, {"base", "left_arm"});
+  ValidityChecker checker(*scene, worker.model(), worker.data(), sampler.joints);
+  const auto base_joints = static_cast<long>(scene->chain("base").joints.size());
+  bool arm_only = false, with_base = false;
+  for (const std::vector<char>& g : checker.clearance_groups()) {
+    auto any = [](auto first, auto last) {
+      return std::any_of(first, last, [](char c) { return c != 0; });
+    };
+    const bool base = any(g.begin(), g.begin() + base_joints);
+    const bool arm = any(g.begin() + base_joints, g.end());
+    arm_only = arm_only || (arm && !base);  // the arm against the rest of the robot
+    with_base = with_base || base;          // the robot against the world
+    // A base joint moves both geoms of a pair on the robot: only world pairs have one, and
+    // then all of them.
+    if (base) {
+      EXPECT_TRUE(std::all_of(g.begin(), g.begin() + base_joints, [](char c) { return c != 0; }));
+    }
+  }
+  EXPECT_TRUE(arm_only);
+  EXPECT_TRUE(with_base);
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, ClearanceOnBothRobots, ::testing::Values("tallbot", "minibot"));
 
 }  // namespace
 }  // namespace taskmatrix::mujoco
