@@ -197,9 +197,11 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   std::vector<std::vector<double>> path = {from};
   // Each step moves the palm a few centimetres along `direction`: a solution that turns a joint
   // farther than kEscapeMaxJointStep, or whose straight motion from the step before carries the
-  // palm off that line, is another posture of the arm, and moving to it would swing the arm
-  // through what surrounds it (execution checks an escape's motion, the planner does not).
+  // palm off that line, is another posture of the arm, and moving straight to it would swing
+  // the arm through what surrounds it. When the first step finds only such a posture, the
+  // escape is a planned motion to it.
   Eigen::Vector3d palm_before = palm.position;
+  bool other_posture = false;  // the step IK solved only as another posture of the arm
   auto stays_near = [&](const std::vector<double>& q, const Eigen::Vector3d& palm_target) {
     const std::vector<double>& before = path.back();
     std::vector<double> middle(q.size());
@@ -218,6 +220,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
     ik.start = path.back();
     core::IkResult r = skills.solve_ik({arm}, hand->palm, target, ik);
     if (!r.solutions.empty() && !stays_near(r.solutions.front(), target.position)) {
+      other_posture = true;
       r.solutions.clear();
     }
     if (r.solutions.empty()) {
@@ -225,20 +228,44 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
       // near as damped least squares from here does, unless that tips what it holds down.
       ik.orientation = false;
       r = skills.solve_ik({arm}, hand->palm, target, ik);
-      if (!r.solutions.empty() &&
-          ((!held.empty() && std::isfinite(lowest_now) &&
-            lowest_held_point(r.solutions.front()) < lowest_now + 0.25 * share * distance_m) ||
-           !stays_near(r.solutions.front(), target.position))) {
+      if (!r.solutions.empty() && !held.empty() && std::isfinite(lowest_now) &&
+          lowest_held_point(r.solutions.front()) < lowest_now + 0.25 * share * distance_m) {
+        r.solutions.clear();
+      }
+      if (!r.solutions.empty() && !stays_near(r.solutions.front(), target.position)) {
+        other_posture = true;
         r.solutions.clear();
       }
     }
     if (r.solutions.empty()) break;
+    other_posture = false;
     path.push_back(r.solutions.front());
     palm_before = target.position;
   }
-  if (path.size() < 2) return std::nullopt;
   Escape e;
   e.chains = {arm};
+  if (path.size() < 2) {
+    // No lift straight from here: to the other posture, planned (the planner may touch what
+    // the start touches, near the start only).
+    if (!other_posture) return std::nullopt;
+    // One clear of everything (the one IK found may touch what the hand stands in).
+    core::Pose target = palm;
+    target.position += distance_m * direction;
+    core::IkOptions clear = ik;
+    clear.collision_free = true;
+    clear.orientation = !held.empty();
+    clear.restarts = 10;
+    clear.seed = ctx.next_seed();
+    const core::IkResult r = skills.solve_ik({arm}, hand->palm, target, clear);
+    if (r.solutions.empty()) return std::nullopt;
+    core::PlanOptions options = ctx.plan_options();
+    options.seed = ctx.next_seed();
+    options.may_touch = touched;
+    const core::PlanResult planned =
+        skills.plan_to_configuration(e.chains, r.solutions.front(), options);
+    if (!planned.success()) return std::nullopt;
+    path = planned.path;
+  }
   e.motion = core::timed(skills.time_parameterize(e.chains, path, 0.5));
   e.options.position_tolerance = 0.01;
   e.options.may_touch = touched;
