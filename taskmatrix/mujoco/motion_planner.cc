@@ -284,9 +284,18 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
       std::vector<double> c0, c1;
     };
     std::vector<Piece> pieces;
+    // Waypoints are measured for every group a motion can change, once each (the end of one
+    // segment is the start of the next); states inside a segment for the groups it changes.
+    std::vector<char> movable(ng);
+    for (size_t g = 0; g < ng; ++g) {
+      movable[g] = std::any_of(groups[g].begin(), groups[g].end(), [](char c) { return c != 0; });
+    }
+    if (path.size() >= 2 && !clearances_at(path[0].data(), movable, c1)) return path[0];
     for (size_t k = 0; k + 1 < path.size(); ++k) {
       const core::Configuration& a = path[k];
       const core::Configuration& b = path[k + 1];
+      c0 = c1;
+      if (!clearances_at(b.data(), movable, c1)) return b;
       bool moves = false;
       for (size_t g = 0; g < ng; ++g) {
         motion[g] = 0;
@@ -297,8 +306,6 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
         moves = moves || wanted[g];
       }
       if (!moves) continue;
-      if (!clearances_at(a.data(), wanted, c0)) return a;
-      if (!clearances_at(b.data(), wanted, c1)) return b;
       pieces.assign(1, Piece{0, 1, c0, c1});
       while (!pieces.empty()) {
         Piece p = std::move(pieces.back());

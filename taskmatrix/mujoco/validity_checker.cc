@@ -325,9 +325,14 @@ bool ValidityChecker::clearances_to_contact(const double* values, double cap_m,
     const double dist = pair_distance(p, std::max(contact_at + clearance, 1e-9));
     clearance = std::min(clearance, dist - contact_at);
   };
-  for (size_t k = 0; k < changing_pairs_.size(); ++k) {
-    visit(changing_pairs_[k], changing_pair_tolerance_[k], changing_pair_group_[k]);
-  }
+  // Groups of pairs whose bounding spheres are farther apart than the cap are skipped whole.
+  any_changing_pair(
+      cap_m,
+      [&](size_t k) {
+        visit(changing_pairs_[k], changing_pair_tolerance_[k], changing_pair_group_[k]);
+        return false;
+      },
+      /*extra_for_all=*/true);
   for (const AttachedPair& p : attached_pairs_) visit(p.pair, p.tolerance, p.group);
   return true;
 }
@@ -399,16 +404,16 @@ void ValidityChecker::group_changing_pairs() {
   for (size_t i = 0; i < pair_groups_.size(); ++i) pair_groups_[i].radius += fixed_radius[i];
 }
 
-bool ValidityChecker::group_near(const PairGroup& g, double extra) const {
+bool ValidityChecker::group_near(const PairGroup& g, double extra, bool extra_for_all) const {
   const double* c = d_->xpos + 3 * g.moving_body;
   const double dx = c[0] - g.fixed_center[0], dy = c[1] - g.fixed_center[1],
                dz = c[2] - g.fixed_center[2];
-  const double bound = g.radius + g.margin + (g.with_world ? extra : 0.0);
+  const double bound = g.radius + g.margin + (g.with_world || extra_for_all ? extra : 0.0);
   return dx * dx + dy * dy + dz * dz <= bound * bound;
 }
 
 template <class Hit>
-bool ValidityChecker::any_changing_pair(double extra, Hit hit) {
+bool ValidityChecker::any_changing_pair(double extra, Hit hit, bool extra_for_all) {
   // Grouping costs about as much as a few checks: a checker used once visits every pair.
   if (pair_visits_ < 2 && ++pair_visits_ == 2) group_changing_pairs();
   if (pair_visits_ < 2) {
@@ -421,7 +426,7 @@ bool ValidityChecker::any_changing_pair(double extra, Hit hit) {
     if (hit(static_cast<size_t>(k))) return true;
   }
   for (const PairGroup& g : pair_groups_) {
-    if (!group_near(g, extra)) continue;
+    if (!group_near(g, extra, extra_for_all)) continue;
     for (int k : g.pairs) {
       if (hit(static_cast<size_t>(k))) return true;
     }

@@ -185,12 +185,13 @@ class ValidityChecker {
   // Needs the bound state's poses: the fixed geoms', and the moving geoms' offsets from their
   // bodies (either configuration serves: the offsets are rigid).
   void group_changing_pairs();
-  // Whether the group's spheres come within its margin (plus `extra` if it has world pairs).
-  bool group_near(const PairGroup& group, double extra) const;
+  // Whether the group's spheres come within its margin plus `extra` (if it has world pairs,
+  // or for any group with `extra_for_all`).
+  bool group_near(const PairGroup& group, double extra, bool extra_for_all = false) const;
   // Visits the changing pairs; true as soon as `hit(k)` is for pair k. `extra`: the planning
-  // margin world pairs get.
+  // margin world pairs get (every pair with `extra_for_all`).
   template <class Hit>
-  bool any_changing_pair(double extra, Hit hit);
+  bool any_changing_pair(double extra, Hit hit, bool extra_for_all = false);
   std::vector<Attachment> attachments_;
   std::vector<size_t> moving_attachments_;    // indices into attachments_
   std::vector<AttachedPair> attached_pairs_;  // pairs that move with moving attachments
