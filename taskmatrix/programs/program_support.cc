@@ -199,7 +199,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   // farther than kEscapeMaxJointStep, or whose straight motion from the step before carries the
   // palm off that line, is another posture of the arm, and moving straight to it would swing
   // the arm through what surrounds it. When the first step finds only such a posture, the
-  // escape is a planned motion to it.
+  // escape is a planned motion to a posture of the lifted hand clear of everything.
   Eigen::Vector3d palm_before = palm.position;
   bool other_posture = false;  // the step IK solved only as another posture of the arm
   auto stays_near = [&](const std::vector<double>& q, const Eigen::Vector3d& palm_target) {
