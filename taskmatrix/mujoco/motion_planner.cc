@@ -257,10 +257,8 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   // between them, and that path is certified in turn.
   const std::vector<double>& reach = checker.joint_reach();
   const std::vector<std::vector<char>>& groups = checker.clearance_groups();
-  // Both checkers were built for the same joints and attachments: the same groups.
-  if (touching && touching->clearance_groups() != groups) {
-    throw std::logic_error("motion planner: checkers with different clearance groups");
-  }
+  // `touching` (when there is one) was built for the same joints and attachments: the same
+  // groups, indexed alike.
   // The clearances of the groups `wanted` names at `v`; false if a pair is in contact.
   auto clearances_at = [&](const double* v, const std::vector<char>& wanted,
                            std::vector<double>& out) {

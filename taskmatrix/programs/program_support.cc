@@ -130,14 +130,21 @@ namespace {
 constexpr double kEscapeMaxJointStep = 0.3;       // rad (or m) per escape step
 constexpr double kEscapeMaxPalmDeviation = 0.01;  // m, halfway through an escape step
 
+// The objects the hand on `side` holds.
+std::vector<std::string> held_by(core::Skillset& skills, const std::string& side) {
+  std::vector<std::string> held;
+  for (const std::string& o : skills.attached_objects()) {
+    if (skills.holder_of(o) == side) held.push_back(o);
+  }
+  return held;
+}
+
 }  // namespace
 
 std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::string& side) {
   core::Skillset& skills = ctx.skills();
-  std::vector<std::string> held, touched;
-  for (const std::string& o : skills.attached_objects()) {
-    if (skills.holder_of(o) == side) held.push_back(o);
-  }
+  const std::vector<std::string> held = held_by(skills, side);
+  std::vector<std::string> touched;
   auto add = [&](const std::string& name) {
     if (std::find(held.begin(), held.end(), name) == held.end() &&
         std::find(touched.begin(), touched.end(), name) == touched.end()) {
@@ -159,10 +166,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   const core::HandSpec* hand = skills.profile().find_hand(side);
   if (!hand) return std::nullopt;
   const std::string arm = arm_of(side);
-  std::vector<std::string> held;
-  for (const std::string& o : skills.attached_objects()) {
-    if (skills.holder_of(o) == side) held.push_back(o);
-  }
+  const std::vector<std::string> held = held_by(skills, side);
   const std::vector<std::string> touched = touched_by_arm(ctx, side);
   if (touched.empty() && !always) return std::nullopt;
   const core::Pose palm = skills.frame_pose(hand->palm);
@@ -276,32 +280,33 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
 std::optional<core::Failure> MotionStage::plan_to_configuration(
     core::ProgramContext& ctx, const std::vector<std::string>& chains,
     const std::vector<double>& goal) {
-  auto allow = [&](const std::vector<std::string>& touched) {
-    for (const std::string& t : touched) {
-      if (std::find(execution.may_touch.begin(), execution.may_touch.end(), t) ==
-          execution.may_touch.end()) {
-        execution.may_touch.push_back(t);
-      }
-    }
-  };
   for (const std::string& c : chains) {
     if (core::chain_kind(c) != "arm") continue;
     std::optional<Escape> escape = escape_motion(ctx, single_side({c}), 0.05);
     if (!escape) {
       // An arm against something that cannot move straight off it: the planner starts from
       // the contact (it may touch what the start touches, near the start only).
-      allow(touched_by_arm(ctx, single_side({c})));
+      allow_touching(touched_by_arm(ctx, single_side({c})));
       continue;
     }
     pending_ctx_ = &ctx;
     pending_chains_ = chains;
     pending_goal_ = goal;
-    allow(escape->touched);
+    allow_touching(escape->touched);
     escape->options.may_touch = execution.may_touch;  // and what the planned motion may touch
     follow(ctx, escape->chains, std::move(escape->motion), escape->options);
     return std::nullopt;
   }
   return plan_now(ctx, chains, goal);
+}
+
+void MotionStage::allow_touching(const std::vector<std::string>& names) {
+  for (const std::string& n : names) {
+    if (std::find(execution.may_touch.begin(), execution.may_touch.end(), n) ==
+        execution.may_touch.end()) {
+      execution.may_touch.push_back(n);
+    }
+  }
 }
 
 std::optional<core::Failure> MotionStage::plan_now(core::ProgramContext& ctx,
@@ -439,14 +444,9 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
     return core::Failure(core::FailureCode::kInvalidInput, "no target for " + frame_);
   }
   const std::string side = single_side({arm_});
-  // attached_objects() returns a new vector: iterate one copy, never begin() and end() of two.
-  const std::vector<std::string> attached = ctx.skills().attached_objects();
-  const bool holding = std::any_of(attached.begin(), attached.end(), [&](const std::string& o) {
-    return ctx.skills().holder_of(o) == side;
-  });
+  const bool holding = !held_by(ctx.skills(), side).empty();
   if (std::optional<Escape> escape = escape_motion(ctx, side, holding ? 0.04 : 0.05)) {
-    motion_.execution.may_touch.insert(motion_.execution.may_touch.end(), escape->touched.begin(),
-                                       escape->touched.end());
+    motion_.allow_touching(escape->touched);
     // Getting free may touch what the motion after it may (reach's object).
     escape->options.may_touch = motion_.execution.may_touch;
     motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
@@ -455,12 +455,7 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   }
   // Against something it cannot move straight off: the planner starts from the contact (it
   // may touch what the start touches, near the start only).
-  for (const std::string& t : touched_by_arm(ctx, side)) {
-    if (std::find(motion_.execution.may_touch.begin(), motion_.execution.may_touch.end(), t) ==
-        motion_.execution.may_touch.end()) {
-      motion_.execution.may_touch.push_back(t);
-    }
-  }
+  motion_.allow_touching(touched_by_arm(ctx, side));
   phase_ = Phase::kReaching;
   std::optional<core::Failure> failure = reach_from_here(ctx);
   if (!base_ || !failure || !stepping_may_help(*failure)) return failure;

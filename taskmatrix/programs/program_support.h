@@ -113,6 +113,8 @@ class MotionStage {
   // nullopt while moving; once ended, its failure (nullopt when it completed).
   std::optional<Ended> step();
   const core::PlanResult* last_plan() const { return plan_.get(); }
+  // Adds names to execution.may_touch (once each): what a motion started against them may touch.
+  void allow_touching(const std::vector<std::string>& names);
   // How planned motions are followed (tolerance at the end, settling time, what they may touch;
   // the plans' start may touch that too).
   core::ExecutionOptions execution;
