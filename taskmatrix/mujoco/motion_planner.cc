@@ -277,9 +277,12 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     std::vector<char> wanted(ng);
     std::vector<double> c0, c1, cm;
     std::vector<double> q(n);
+    // A piece of a segment, its ends' clearances, and the groups it has still to certify
+    // (a group certified over a piece is certified over its halves: those are not measured).
     struct Piece {
       double t0, t1;
       std::vector<double> c0, c1;
+      std::vector<char> open;
     };
     std::vector<Piece> pieces;
     // Waypoints are measured for every group a motion can change, once each (the end of one
@@ -304,21 +307,26 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
         moves = moves || wanted[g];
       }
       if (!moves) continue;
-      pieces.assign(1, Piece{0, 1, c0, c1});
+      pieces.assign(1, Piece{0, 1, c0, c1, wanted});
       while (!pieces.empty()) {
         Piece p = std::move(pieces.back());
         pieces.pop_back();
         bool safe = true;
-        for (size_t g = 0; g < ng && safe; ++g) {
+        for (size_t g = 0; g < ng; ++g) {
+          if (!p.open[g]) continue;
           const double moved = motion[g] * (p.t1 - p.t0);
-          safe = !wanted[g] || moved <= p.c0[g] + p.c1[g] || moved <= kCertifyFloor;
+          if (moved <= p.c0[g] + p.c1[g] || moved <= kCertifyFloor) {
+            p.open[g] = 0;
+          } else {
+            safe = false;
+          }
         }
         if (safe) continue;
         const double tm = 0.5 * (p.t0 + p.t1);
         for (size_t i = 0; i < n; ++i) q[i] = a[i] + tm * (b[i] - a[i]);
-        if (!clearances_at(q.data(), wanted, cm)) return core::Configuration(q);
-        pieces.push_back(Piece{tm, p.t1, cm, std::move(p.c1)});
-        pieces.push_back(Piece{p.t0, tm, std::move(p.c0), cm});
+        if (!clearances_at(q.data(), p.open, cm)) return core::Configuration(q);
+        pieces.push_back(Piece{tm, p.t1, cm, std::move(p.c1), p.open});
+        pieces.push_back(Piece{p.t0, tm, std::move(p.c0), cm, std::move(p.open)});
       }
     }
     return core::Configuration{};

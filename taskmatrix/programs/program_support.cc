@@ -440,6 +440,7 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   base_ = base;
   reached_ = -1;
   best_miss_m_ = INFINITY;
+  stances_left_.clear();
   if (targets_.empty()) {
     return core::Failure(core::FailureCode::kInvalidInput, "no target for " + frame_);
   }
@@ -491,9 +492,10 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
     return true;
   };
   std::optional<core::Failure> ended;
-  for (size_t k = 0; k < targets_.size(); ++k) {
+  for (size_t k = 0; k < targets_.size() && stances_left_.empty(); ++k) {
     const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why);
     if (solutions.empty()) continue;
+    if (left_before(solutions.front())) break;
     if (go(k, solutions.front(), ended)) return ended;
     break;
   }
@@ -516,12 +518,14 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
     const int limit = base_weight > 0 ? kMaxLooseStances : kMaxStances;
     int here = 0;
     for (const std::vector<double>& stance : stances) {
+      if (left_before(stance)) continue;
       if (++here > limit) break;
       ++tried;
       std::copy(stance.begin(), stance.end(), held.start.begin());
       for (size_t k = 0; k < targets_.size(); ++k) {
         const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why, &held);
         if (solutions.empty()) continue;
+        if (left_before(solutions.front())) break;  // the next stance
         if (go(k, solutions.front(), ended)) return ended;
         break;  // the next stance
       }
@@ -531,6 +535,13 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
   failure.detail += "; stepping: no stance found (" + why + "; " + std::to_string(tried) +
                     " searches from " + std::to_string(stances.size()) + " stances)";
   return failure;
+}
+
+bool ArmMotion::left_before(const std::vector<double>& base) const {
+  return std::any_of(stances_left_.begin(), stances_left_.end(), [&](const std::vector<double>& s) {
+    return std::hypot(s[0] - base[0], s[1] - base[1]) < kFailedStanceM &&
+           std::abs(std::remainder(s[2] - base[2], 2 * M_PI)) < kFailedStanceRad;
+  });
 }
 
 ReachEnvelope::ReachEnvelope(core::Skillset& skills, const std::vector<std::string>& body,
@@ -713,9 +724,16 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
       return std::nullopt;
     }
   }
-  if (std::optional<core::Failure> failure = reach_from_here(ctx)) {
-    return Ended(std::move(failure));
+  std::optional<core::Failure> failure = reach_from_here(ctx);
+  // Reaching from this stance failed where the planner could not connect (the arm wedged
+  // between what it reaches over and what stands beside it): another stance, a bounded
+  // number of times.
+  if (failure && stepping_may_help(*failure) && failure->code != core::FailureCode::kIkFailure &&
+      static_cast<int>(stances_left_.size()) < kMaxFailedStances) {
+    stances_left_.push_back(ctx.skills().configuration({"base"}));
+    failure = step_over(ctx, std::move(*failure));
   }
+  if (failure) return Ended(std::move(failure));
   return std::nullopt;
 }
 

@@ -171,9 +171,11 @@ class ReachEnvelope {
 // will do: the arm; when IK finds no solution for any target, torso and arm (if `torso`); then
 // (if `base`) the robot steps: IK over base, torso and arm gives a stance from which the arm
 // reaches, the base alone is planned there and driven (locomotion through the planar base
-// joints), and torso and arm are planned from the new stance. The frame may be a held
-// object's (a tool's tip): every stage moves the hand holding it. An arm that starts against
-// something escapes first (escape_motion).
+// joints), and torso and arm are planned from the new stance; where the planner connects to no
+// solution from there, the robot steps again, to a stance away from those that failed (at most
+// kMaxFailedStances of them). The frame may be a held object's (a tool's tip): every stage
+// moves the hand holding it. An arm that starts against something escapes first
+// (escape_motion).
 class ArmMotion {
  public:
   // nullopt when moving, else why it is not.
@@ -189,7 +191,10 @@ class ArmMotion {
  private:
   enum class Phase { kEscaping, kStepping, kReaching };
   std::optional<core::Failure> reach_from_here(core::ProgramContext& ctx);
+  // `failure`: why reaching from here failed. Stances near one in stances_left_ are not tried.
   std::optional<core::Failure> step_over(core::ProgramContext& ctx, core::Failure failure);
+  // True if the base pose (x, y, yaw) is near a stance reaching already failed from.
+  bool left_before(const std::vector<double>& base) const;
   // Base poses to search for a stance: near the current one, then round the targets; the
   // nearest travel first; repeats and poses from which every target is out of the frame's
   // reach (ReachEnvelope) dropped.
@@ -214,6 +219,11 @@ class ArmMotion {
   static constexpr double kLooseBaseWeight = 0.1;
   // Stances found that the planner could not get to before the search gives up.
   static constexpr int kMaxUnplannedStances = 3;
+  // Stances stepped to from which the arm's plan then failed, before the failure is the
+  // program's; and how near another stance must be to one of them to count as the same.
+  static constexpr int kMaxFailedStances = 2;
+  static constexpr double kFailedStanceM = 0.1;
+  static constexpr double kFailedStanceRad = 0.3;
   // Stances on each ring round the target, and what a turn of the base costs against walking
   // when ordering them (metres per radian).
   static constexpr int kStanceHeadings = 12;
@@ -232,6 +242,8 @@ class ArmMotion {
   int stance_target_ = -1;
   std::vector<double> stance_rest_;
   std::vector<std::string> stance_body_;  // base, torso (if used) and arm
+  // Base poses of the stances stepped to from which reaching failed.
+  std::vector<std::vector<double>> stances_left_;
   // The best IK miss over the targets, for the failure message.
   double best_miss_m_ = INFINITY, best_miss_rad_ = 0;
   std::string best_miss_tag_;
