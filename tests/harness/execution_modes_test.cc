@@ -74,7 +74,7 @@ class ExecutionModes : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
   const Case& c = GetParam();
-  if (const auto why = test::known_failure(c.program, c.robot)) GTEST_SKIP() << *why;
+  if (const auto why = test::known_mode_difference(c.program, c.robot)) GTEST_SKIP() << *why;
   Scenario s =
       load_scenario(test::catalog().root() / "scenarios" / "programs" / (c.program + ".yaml"),
                     test::catalog(), registry());

@@ -148,9 +148,6 @@ class ProgramScenarioTest : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ProgramScenarioTest, SucceedsInTheDefaultLayout) {
   const Case& c = GetParam();
-  if (const auto why = test::known_failure(c.program, c.pair.robot, c.pair.environment)) {
-    GTEST_SKIP() << *why;
-  }
   const Scenario s = program_scenario(c.program);
   EXPECT_EQ(s.run.program, c.program);
   // The scenario covers this robot and environment.
@@ -197,9 +194,6 @@ TEST_P(ProgramBehaviourTest, GreetsAWalkingVisitorWhileTrackingThem) {
 }
 
 TEST_P(ProgramBehaviourTest, VacuumRemovesEveryFlakeOfDebris) {
-  if (const auto why = test::known_failure("vacuum", GetParam().robot, GetParam().environment)) {
-    GTEST_SKIP() << *why;
-  }
   const Scenario s = program_scenario("vacuum");
   size_t removed = 0;
   const TrialResult r =
