@@ -725,10 +725,10 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
     }
   }
   std::optional<core::Failure> failure = reach_from_here(ctx);
-  // Reaching from this stance failed where the planner could not connect (the arm wedged
-  // between what it reaches over and what stands beside it): another stance, a bounded
-  // number of times.
-  if (failure && stepping_may_help(*failure) && failure->code != core::FailureCode::kIkFailure &&
+  // Reaching from this stance failed where another stance may do (the planner connected to no
+  // solution, the arm wedged between what it reaches over and what stands beside it; or no IK
+  // solution from where the base stopped): another stance, a bounded number of times.
+  if (failure && stepping_may_help(*failure) &&
       static_cast<int>(stances_left_.size()) < kMaxFailedStances) {
     stances_left_.push_back(ctx.skills().configuration({"base"}));
     failure = step_over(ctx, std::move(*failure));

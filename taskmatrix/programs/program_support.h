@@ -171,8 +171,8 @@ class ReachEnvelope {
 // will do: the arm; when IK finds no solution for any target, torso and arm (if `torso`); then
 // (if `base`) the robot steps: IK over base, torso and arm gives a stance from which the arm
 // reaches, the base alone is planned there and driven (locomotion through the planar base
-// joints), and torso and arm are planned from the new stance; where the planner connects to no
-// solution from there, the robot steps again, to a stance away from those that failed (at most
+// joints), and torso and arm are planned from the new stance; where they cannot reach or be
+// planned from there, the robot steps again, to a stance away from those that failed (at most
 // kMaxFailedStances of them). The frame may be a held object's (a tool's tip): every stage
 // moves the hand holding it. An arm that starts against something escapes first
 // (escape_motion).
