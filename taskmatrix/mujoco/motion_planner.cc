@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 
@@ -24,6 +25,79 @@ constexpr double kMaxTimeLimitS = 86400;  // beyond it, planners' deadline arith
 // moves no point farther than kCertifyFloor (m) between two contact-free states is accepted.
 constexpr double kCertifyCap = 0.05;
 constexpr double kCertifyFloor = 1e-4;
+
+// Certifies a path contact-free along its straight segments by conservative advancement: the
+// first state found in contact (empty if none). `clearances_at(v, wanted, out)` measures, per
+// group of pairs (ValidityChecker::clearance_groups), how far the group `wanted` names is from
+// contact at `v`, false when a pair is in contact; a motion changing joint i by dq_i moves a
+// group's pairs at most sum(reach[i] |dq_i|) over its joints (ValidityChecker::joint_reach). A
+// piece of a segment is safe for a group when that motion is within the sum of its ends'
+// clearances (or below kCertifyFloor); else it is halved.
+core::Configuration first_contact_along(
+    const std::vector<core::Configuration>& path, const std::vector<std::vector<char>>& groups,
+    const std::vector<double>& reach,
+    const std::function<bool(const double*, const std::vector<char>&, std::vector<double>&)>&
+        clearances_at) {
+  const size_t n = reach.size();
+  const size_t ng = groups.size();
+  std::vector<double> motion(ng);  // per group: the most its pairs' distances change
+  std::vector<char> wanted(ng);
+  std::vector<double> c0, c1, cm;
+  std::vector<double> q(n);
+  // A piece of a segment, its ends' clearances, and the groups it has still to certify
+  // (a group certified over a piece is certified over its halves: those are not measured).
+  struct Piece {
+    double t0, t1;
+    std::vector<double> c0, c1;
+    std::vector<char> open;
+  };
+  std::vector<Piece> pieces;
+  // Waypoints are measured for every group a motion can change, once each (the end of one
+  // segment is the start of the next); states inside a segment for the groups it changes.
+  std::vector<char> movable(ng);
+  for (size_t g = 0; g < ng; ++g) {
+    movable[g] = std::any_of(groups[g].begin(), groups[g].end(), [](char c) { return c != 0; });
+  }
+  if (path.size() >= 2 && !clearances_at(path[0].data(), movable, c1)) return path[0];
+  for (size_t k = 0; k + 1 < path.size(); ++k) {
+    const core::Configuration& a = path[k];
+    const core::Configuration& b = path[k + 1];
+    c0 = c1;
+    if (!clearances_at(b.data(), movable, c1)) return b;
+    bool moves = false;
+    for (size_t g = 0; g < ng; ++g) {
+      motion[g] = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (groups[g][i]) motion[g] += reach[i] * std::abs(b[i] - a[i]);
+      }
+      wanted[g] = motion[g] > 0;
+      moves = moves || wanted[g];
+    }
+    if (!moves) continue;
+    pieces.assign(1, Piece{0, 1, c0, c1, wanted});
+    while (!pieces.empty()) {
+      Piece p = std::move(pieces.back());
+      pieces.pop_back();
+      bool safe = true;
+      for (size_t g = 0; g < ng; ++g) {
+        if (!p.open[g]) continue;
+        const double moved = motion[g] * (p.t1 - p.t0);
+        if (moved <= p.c0[g] + p.c1[g] || moved <= kCertifyFloor) {
+          p.open[g] = 0;
+        } else {
+          safe = false;
+        }
+      }
+      if (safe) continue;
+      const double tm = 0.5 * (p.t0 + p.t1);
+      for (size_t i = 0; i < n; ++i) q[i] = a[i] + tm * (b[i] - a[i]);
+      if (!clearances_at(q.data(), p.open, cm)) return core::Configuration(q);
+      pieces.push_back(Piece{tm, p.t1, cm, std::move(p.c1), p.open});
+      pieces.push_back(Piece{p.t0, tm, std::move(p.c0), cm, std::move(p.open)});
+    }
+  }
+  return core::Configuration{};
+}
 
 }  // namespace
 
@@ -248,13 +322,10 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
 
   // The planner checks states along its motions a resolution apart; between two checked states
   // the robot may still graze something (a hand's far end moves centimetres per check). The
-  // path it returns is certified contact-free along every straight segment: the distance to
-  // contact at a state bounds how far the robot can move from it without touching anything
-  // (ValidityChecker::joint_reach bounds how far a motion moves it), so a piece of a segment
-  // is safe when its motion is within the sum of its ends' distances, and is halved until it
-  // is (conservative advancement). Where a contact is found, the problem is planned again
-  // with checks close enough for the clearance every checked state keeps to certify the space
-  // between them, and that path is certified in turn.
+  // path it returns is certified contact-free along every straight segment
+  // (first_contact_along). Where a contact is found, the problem is planned again with checks
+  // close enough for the clearance every checked state keeps to certify the space between
+  // them, and that path is certified in turn.
   const std::vector<double>& reach = checker.joint_reach();
   const std::vector<std::vector<char>>& groups = checker.clearance_groups();
   // `touching` (when there is one) was built for the same joints and attachments: the same
@@ -270,67 +341,6 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     for (size_t i = 0; i < n; ++i) d->qpos[m->jnt_qposadr[joints_[i]]] = q[i];
     return describe_robot_contacts(scene_, m, d, attachments_);
   };
-  // The first state found in contact along the path (empty if none).
-  auto contact_along = [&](const std::vector<core::Configuration>& path) {
-    const size_t ng = groups.size();
-    std::vector<double> motion(ng);  // per group: the most its pairs' distances change
-    std::vector<char> wanted(ng);
-    std::vector<double> c0, c1, cm;
-    std::vector<double> q(n);
-    // A piece of a segment, its ends' clearances, and the groups it has still to certify
-    // (a group certified over a piece is certified over its halves: those are not measured).
-    struct Piece {
-      double t0, t1;
-      std::vector<double> c0, c1;
-      std::vector<char> open;
-    };
-    std::vector<Piece> pieces;
-    // Waypoints are measured for every group a motion can change, once each (the end of one
-    // segment is the start of the next); states inside a segment for the groups it changes.
-    std::vector<char> movable(ng);
-    for (size_t g = 0; g < ng; ++g) {
-      movable[g] = std::any_of(groups[g].begin(), groups[g].end(), [](char c) { return c != 0; });
-    }
-    if (path.size() >= 2 && !clearances_at(path[0].data(), movable, c1)) return path[0];
-    for (size_t k = 0; k + 1 < path.size(); ++k) {
-      const core::Configuration& a = path[k];
-      const core::Configuration& b = path[k + 1];
-      c0 = c1;
-      if (!clearances_at(b.data(), movable, c1)) return b;
-      bool moves = false;
-      for (size_t g = 0; g < ng; ++g) {
-        motion[g] = 0;
-        for (size_t i = 0; i < n; ++i) {
-          if (groups[g][i]) motion[g] += reach[i] * std::abs(b[i] - a[i]);
-        }
-        wanted[g] = motion[g] > 0;
-        moves = moves || wanted[g];
-      }
-      if (!moves) continue;
-      pieces.assign(1, Piece{0, 1, c0, c1, wanted});
-      while (!pieces.empty()) {
-        Piece p = std::move(pieces.back());
-        pieces.pop_back();
-        bool safe = true;
-        for (size_t g = 0; g < ng; ++g) {
-          if (!p.open[g]) continue;
-          const double moved = motion[g] * (p.t1 - p.t0);
-          if (moved <= p.c0[g] + p.c1[g] || moved <= kCertifyFloor) {
-            p.open[g] = 0;
-          } else {
-            safe = false;
-          }
-        }
-        if (safe) continue;
-        const double tm = 0.5 * (p.t0 + p.t1);
-        for (size_t i = 0; i < n; ++i) q[i] = a[i] + tm * (b[i] - a[i]);
-        if (!clearances_at(q.data(), p.open, cm)) return core::Configuration(q);
-        pieces.push_back(Piece{tm, p.t1, cm, std::move(p.c1), p.open});
-        pieces.push_back(Piece{p.t0, tm, std::move(p.c0), cm, std::move(p.open)});
-      }
-    }
-    return core::Configuration{};
-  };
 
   std::string unusable = solve();
   std::string grazed;
@@ -339,7 +349,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
                                 planned.status == core::PlannerStatus::kApproximateSolution);
   };
   if (has_path()) {
-    core::Configuration contact = contact_along(planned.path);
+    core::Configuration contact = first_contact_along(planned.path, groups, reach, clearances_at);
     if (!contact.empty()) {
       grazed = describe_contact_at(contact);
       // Checks close enough that two states with the clearance asked for certify the motion
@@ -354,7 +364,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
         problem.fine_resolution = problem.motion_resolution / kFineChecks;
       unusable = solve();
       if (has_path()) {
-        contact = contact_along(planned.path);
+        contact = first_contact_along(planned.path, groups, reach, clearances_at);
         if (!contact.empty()) {
           char buf[160];
           std::snprintf(buf, sizeof buf,
@@ -411,7 +421,7 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
 
   if (result.status == core::PlanStatus::kExactSolution ||
       result.status == core::PlanStatus::kApproximateSolution) {
-    result.path = planned.path;
+    result.path = std::move(planned.path);
     // Which goal the path ends at.
     for (size_t k = 0; k < goal_index_of_state.size(); ++k) {
       const std::vector<double>& g = problem.goals[k];

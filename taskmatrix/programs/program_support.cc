@@ -161,13 +161,13 @@ std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::st
 }
 
 std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
-                                    double distance_m, bool always) {
+                                    const std::vector<std::string>& touched, double distance_m,
+                                    bool always) {
   core::Skillset& skills = ctx.skills();
   const core::HandSpec* hand = skills.profile().find_hand(side);
   if (!hand) return std::nullopt;
   const std::string arm = arm_of(side);
   const std::vector<std::string> held = held_by(skills, side);
-  const std::vector<std::string> touched = touched_by_arm(ctx, side);
   if (touched.empty() && !always) return std::nullopt;
   const core::Pose palm = skills.frame_pose(hand->palm);
   const Eigen::Vector3d approach(hand->approach[0], hand->approach[1], hand->approach[2]);
@@ -222,11 +222,15 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
     ik.seed = ctx.next_seed();
     ik.orientation = true;
     ik.start = path.back();
+    // A solution only another posture of the arm reaches is none.
+    auto keep_near = [&](core::IkResult& r) {
+      if (!r.solutions.empty() && !stays_near(r.solutions.front(), target.position)) {
+        other_posture = true;
+        r.solutions.clear();
+      }
+    };
     core::IkResult r = skills.solve_ik({arm}, hand->palm, target, ik);
-    if (!r.solutions.empty() && !stays_near(r.solutions.front(), target.position)) {
-      other_posture = true;
-      r.solutions.clear();
-    }
+    keep_near(r);
     if (r.solutions.empty()) {
       // An arm that cannot keep the hand's orientation exactly (five joints) keeps it as
       // near as damped least squares from here does, unless that tips what it holds down.
@@ -236,10 +240,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
           lowest_held_point(r.solutions.front()) < lowest_now + 0.25 * share * distance_m) {
         r.solutions.clear();
       }
-      if (!r.solutions.empty() && !stays_near(r.solutions.front(), target.position)) {
-        other_posture = true;
-        r.solutions.clear();
-      }
+      keep_near(r);
     }
     if (r.solutions.empty()) break;
     other_posture = false;
@@ -273,7 +274,6 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   e.motion = core::timed(skills.time_parameterize(e.chains, path, 0.5));
   e.options.position_tolerance = 0.01;
   e.options.may_touch = touched;
-  e.touched = touched;
   return e;
 }
 
@@ -282,17 +282,19 @@ std::optional<core::Failure> MotionStage::plan_to_configuration(
     const std::vector<double>& goal) {
   for (const std::string& c : chains) {
     if (core::chain_kind(c) != "arm") continue;
-    std::optional<Escape> escape = escape_motion(ctx, single_side({c}), 0.05);
+    const std::string side = single_side({c});
+    const std::vector<std::string> touched = touched_by_arm(ctx, side);
+    std::optional<Escape> escape = escape_motion(ctx, side, touched, 0.05);
     if (!escape) {
       // An arm against something that cannot move straight off it: the planner starts from
       // the contact (it may touch what the start touches, near the start only).
-      allow_touching(touched_by_arm(ctx, single_side({c})));
+      allow_touching(touched);
       continue;
     }
     pending_ctx_ = &ctx;
     pending_chains_ = chains;
     pending_goal_ = goal;
-    allow_touching(escape->touched);
+    allow_touching(touched);
     escape->options.may_touch = execution.may_touch;  // and what the planned motion may touch
     follow(ctx, escape->chains, std::move(escape->motion), escape->options);
     return std::nullopt;
@@ -446,8 +448,9 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   }
   const std::string side = single_side({arm_});
   const bool holding = !held_by(ctx.skills(), side).empty();
-  if (std::optional<Escape> escape = escape_motion(ctx, side, holding ? 0.04 : 0.05)) {
-    motion_.allow_touching(escape->touched);
+  const std::vector<std::string> touched = touched_by_arm(ctx, side);
+  if (std::optional<Escape> escape = escape_motion(ctx, side, touched, holding ? 0.04 : 0.05)) {
+    motion_.allow_touching(touched);
     // Getting free may touch what the motion after it may (reach's object).
     escape->options.may_touch = motion_.execution.may_touch;
     motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
@@ -456,7 +459,7 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   }
   // Against something it cannot move straight off: the planner starts from the contact (it
   // may touch what the start touches, near the start only).
-  motion_.allow_touching(touched_by_arm(ctx, side));
+  motion_.allow_touching(touched);
   phase_ = Phase::kReaching;
   std::optional<core::Failure> failure = reach_from_here(ctx);
   if (!base_ || !failure || !stepping_may_help(*failure)) return failure;
@@ -492,10 +495,10 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
     return true;
   };
   std::optional<core::Failure> ended;
+  // (Not after a stance failed: from there it would find that stance again.)
   for (size_t k = 0; k < targets_.size() && stances_left_.empty(); ++k) {
     const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why);
     if (solutions.empty()) continue;
-    if (left_before(solutions.front())) break;
     if (go(k, solutions.front(), ended)) return ended;
     break;
   }

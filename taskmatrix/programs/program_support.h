@@ -77,18 +77,18 @@ struct Escape {
   std::vector<std::string> chains;
   core::TimedMotion motion;
   core::ExecutionOptions options;
-  std::vector<std::string> touched;
 };
 // What the arm on `side`, its hand or what it holds touches (not the hand itself, not what it
 // holds), by name.
 std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::string& side);
-// The escape for the arm on `side` if its hand or held object touches something (anything
-// but the hand itself), or always with `always`; nullopt when nothing is touched or the arm
-// cannot move that way. `distance_m`: how far. A straight lift in two steps, each a short
-// joint motion; where IK reaches the lifted hand only in another posture of the arm, a
+// The escape for the arm on `side` if its hand or held object touches something (`touched`:
+// touched_by_arm's answer now), or always with `always`; nullopt when nothing is touched or
+// the arm cannot move that way. `distance_m`: how far. A straight lift in two steps, each a
+// short joint motion; where IK reaches the lifted hand only in another posture of the arm, a
 // planned motion to a collision-free one.
 std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
-                                    double distance_m, bool always = false);
+                                    const std::vector<std::string>& touched, double distance_m,
+                                    bool always = false);
 
 // How a motion ended: nullopt when it completed, else its failure.
 using Ended = std::optional<core::Failure>;

@@ -40,7 +40,9 @@ class Retreat final : public core::TaskProgram {
       return;
     }
     if (part_ == "hand") {
-      std::optional<Escape> escape = escape_motion(ctx, side_, distance_, /*always=*/true);
+      std::optional<Escape> escape =
+          escape_motion(ctx, side_, touched_by_arm(ctx, side_), distance_,
+                        /*always=*/true);
       if (!escape) {
         failure_ = core::Failure(core::FailureCode::kIkFailure,
                                  "the " + side_ + " arm cannot withdraw its hand " +
