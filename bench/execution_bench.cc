@@ -7,7 +7,8 @@
 //                         poses and contacts are current for the programs, contact pruning
 //                         (static geoms nothing movable is near closed, resting objects
 //                         asleep)
-//     /physics_unpruned   the same without contact pruning
+//     /physics_unpruned   the same without contact pruning, the box filter and sparse
+//                         Jacobians (physics as computed before them)
 //     /kinematic          the commanded configuration set, kinematics, the robot's contacts
 //   counters: contacts_per_pass (contacts per collision detection: per timestep in physics,
 //   per period in kinematic mode) and sim_speed (simulated seconds per second)
@@ -47,7 +48,9 @@ std::vector<double> arm_target(const std::vector<double>& rest, double t) {
 }
 
 void BM_ControlPeriod_Raw(benchmark::State& state) {
-  auto skills = make_skillset();
+  mujoco::SimulationOptions as_compiled;  // the scene's own options: MuJoCo's dense Jacobians
+  as_compiled.sparse_jacobian = false;
+  auto skills = make_skillset(as_compiled);
   const mjModel* m = skills->model();
   mujoco::DataPtr d = mujoco::make_data(m);
   mju_copy(d->qpos, skills->sim_data()->qpos, m->nq);
@@ -78,7 +81,8 @@ BENCHMARK(BM_ControlPeriod_Raw)->Unit(benchmark::kMicrosecond);
 void BM_ControlPeriod_Skillset(benchmark::State& state, mujoco::ExecutionMode mode, bool prune) {
   mujoco::SimulationOptions options;
   options.execution = mode;
-  options.pruning = {prune, prune};
+  options.pruning = {prune, prune, prune};
+  options.sparse_jacobian = prune;
   auto skills = make_skillset(options);
   const std::vector<double> rest = skills->configuration({"left_arm"});
   const long passes = skills->work().contact_passes, contacts = skills->work().contacts;

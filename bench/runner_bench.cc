@@ -141,7 +141,8 @@ void BM_RunSuite_RawStepping(benchmark::State& state) {
           harness::draw_trial_layout(plan.scenarios[static_cast<size_t>(spec.scenario)],
                                      mujoco::MujocoLoadedScene(scene), spec.layout_seed, spec.id);
       mujoco::SimulationOptions options;
-      options.pruning = {false, false};
+      options.pruning = {false, false, false};
+      options.sparse_jacobian = false;
       mujoco::MujocoSkillset skills(scene, options);
       skills.apply_layout(layout);
       const mjModel* m = skills.model();

@@ -45,8 +45,8 @@ struct Scenario {
   std::string perception = "ground_truth";
   // How motion is executed: "physics" (simulated dynamics, contacts that cannot matter pruned;
   // contact_pruning.h), "kinematic" (the robot is set to its commanded configurations;
-  // mujoco_skillset.h) or "physics_unpruned" (physics computing every contact, the reference
-  // that pruning is measured and checked against).
+  // mujoco_skillset.h) or "physics_unpruned" (physics computing every contact, as MuJoCo does
+  // with the scene's own options: the reference that physics is measured and checked against).
   std::string execution = "physics";
   core::ObstacleOptions obstacles;
   core::VariationOptions variation;      // objects:, surfaces:, robot_start:

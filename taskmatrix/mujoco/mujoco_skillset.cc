@@ -34,6 +34,10 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
       world_(*scene_, worker_.model()),
       execution_(options.execution),
       pruning_(*scene_, worker_.model(), options.pruning) {
+  if (execution_ == ExecutionMode::kPhysics && options.sparse_jacobian &&
+      worker_.model()->opt.jacobian == mjJAC_AUTO) {
+    worker_.model()->opt.jacobian = mjJAC_SPARSE;
+  }
   const mjModel* m = worker_.model();
   if (!(std::isfinite(options.control_rate_hz) && options.control_rate_hz > 0)) {
     throw std::invalid_argument("control rate must be a positive number of Hz");

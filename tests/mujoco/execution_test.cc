@@ -63,8 +63,8 @@ TEST_P(ExecutionOnBothRobots, ClosingStaticGeomsNothingComesNearChangesNothing) 
   // world as trials draw it: 12 obstacles from a layout and the table lowered to 0.6 m (its top
   // moves, its legs shrink), so the gate sees the layout's and the variation's geoms.
   SimulationOptions gated, plain;
-  gated.pruning = {true, false};
-  plain.pruning = {false, false};
+  gated.pruning = {true, false, false};
+  plain.pruning = {false, false, false};
   auto a = make_skills(GetParam(), gated);
   auto b = make_skills(GetParam(), plain);
   const core::SurfaceGeometry& table = *a->scene().world_geometry().surface("work_surface");
@@ -129,8 +129,8 @@ TEST_P(ExecutionOnBothRobots, AStaticGeomClosedBeforeTheRobotWasSetBesideItColli
   // the counter, which nothing came near before. Gated and ungated physics must stay equal.
   SimulationOptions gated, plain;
   gated.control_rate_hz = plain.control_rate_hz = 1.0 / 0.006;
-  gated.pruning = {true, false};
-  plain.pruning = {false, false};
+  gated.pruning = {true, false, false};
+  plain.pruning = {false, false, false};
   auto a = make_skills(GetParam(), gated);
   auto b = make_skills(GetParam(), plain);
   ASSERT_EQ(std::lround(a->control_period() / a->model()->opt.timestep), 3);
@@ -165,6 +165,80 @@ TEST_P(ExecutionOnBothRobots, AStaticGeomClosedBeforeTheRobotWasSetBesideItColli
                        a->model()->geom_bodyid[con.geom2] == counter_body;
   }
   EXPECT_TRUE(touching_counter) << "the robot was not set against the counter";
+}
+
+TEST_P(ExecutionOnBothRobots, TheBoxFilterSkipsOnlyPairsWithoutContact) {
+  // The arm reaching over the cup on the table, with and without the box filter (nothing else
+  // pruned in either): bit-identical states and the same contacts every period. Every tenth
+  // period, every geom pair the filter rejects though MuJoCo's own filter and bounding spheres
+  // let it through is handed to MuJoCo's narrow phase, which must find nothing.
+  SimulationOptions filtered, plain;
+  filtered.pruning = {false, false, true};
+  plain.pruning = {false, false, false};
+  auto a = make_skills(GetParam(), filtered);
+  auto b = make_skills(GetParam(), plain);
+  const Chains chains = {"right_arm", "torso"};
+  const std::vector<double> goal = arm_over_the_cup(*a, "right");
+  ASSERT_FALSE(goal.empty());
+  core::PlanOptions options;
+  options.time_limit_s = 10;
+  const core::PlanResult plan = a->plan_to_configuration(chains, goal, options);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  const core::Trajectory motion = a->time_parameterize(chains, plan.path);
+  const mjModel* m = a->model();
+  const mjData* d = a->sim_data();
+  DataPtr scratch = make_data(m);  // the narrow phase's working memory
+  long skipped = 0, contacts = 0;
+  for (int k = 0; k * a->control_period() < motion.duration() + 0.3; ++k) {
+    const core::TrajectorySample s = motion.sample(k * a->control_period());
+    const std::vector<double> q(s.position.data(), s.position.data() + s.position.size());
+    const std::vector<double> v(s.velocity.data(), s.velocity.data() + s.velocity.size());
+    a->command(chains, q, v);
+    b->command(chains, q, v);
+    a->advance();
+    b->advance();
+    EXPECT_EQ(mjcb_contactfilter, nullptr) << "installed outside the steps";
+    for (int i = 0; i < m->nq; ++i) {
+      ASSERT_EQ(d->qpos[i], b->sim_data()->qpos[i]) << "qpos " << i << " period " << k;
+    }
+    ASSERT_EQ(d->ncon, b->sim_data()->ncon) << "period " << k;
+    for (int c = 0; c < d->ncon; ++c) {
+      const mjContact &x = d->contact[c], &y = b->sim_data()->contact[c];
+      ASSERT_EQ(x.geom1, y.geom1);
+      ASSERT_EQ(x.geom2, y.geom2);
+      ASSERT_EQ(x.dist, y.dist);
+    }
+    contacts += d->ncon;
+    if (k % 10 != 0) continue;
+    mj_copyData(scratch.get(), m, d);
+    mjContact found[mjMAXCONPAIR];
+    for (int g1 = 0; g1 < m->ngeom; ++g1) {
+      for (int g2 = g1 + 1; g2 < m->ngeom; ++g2) {
+        if (!contact_filter_with_boxes(m, scratch.get(), g1, g2)) continue;
+        const int w1 = m->body_weldid[m->geom_bodyid[g1]], w2 = m->body_weldid[m->geom_bodyid[g2]];
+        const bool bits = (m->geom_contype[g1] & m->geom_conaffinity[g2]) ||
+                          (m->geom_contype[g2] & m->geom_conaffinity[g1]);
+        if (!bits || w1 == w2 || (w1 && w2 && (w1 == m->body_weldid[m->body_parentid[w2]] ||
+                                               w2 == m->body_weldid[m->body_parentid[w1]]))) {
+          continue;  // MuJoCo's own filter rejects it too
+        }
+        const double margin = std::max(m->geom_margin[g1], m->geom_margin[g2]);
+        if (mju_dist3(d->geom_xpos + 3 * g1, d->geom_xpos + 3 * g2) >
+            m->geom_rbound[g1] + m->geom_rbound[g2] + margin) {
+          continue;  // and so do its bounding spheres
+        }
+        const int lo = m->geom_type[g1] <= m->geom_type[g2] ? g1 : g2;
+        const int hi = lo == g1 ? g2 : g1;
+        mjfCollision narrow = mjCOLLISIONFUNC[m->geom_type[lo]][m->geom_type[hi]];
+        if (!narrow) continue;
+        ++skipped;
+        EXPECT_EQ(narrow(m, scratch.get(), found, lo, hi, margin), 0)
+            << "period " << k << ": geoms " << g1 << " and " << g2 << " touch";
+      }
+    }
+  }
+  EXPECT_GT(contacts, 0) << "the objects rest on the table: contacts every step";
+  EXPECT_GT(skipped, 100) << "the filter rejected no pair MuJoCo would have tested";
 }
 
 TEST_P(ExecutionOnBothRobots, RestingObjectsSleepUntilSomethingComesNear) {
