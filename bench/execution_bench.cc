@@ -6,9 +6,9 @@
 //     /physics            computed-torque feed-forward per step, mj_step2 then mj_step1 so
 //                         poses and contacts are current for the programs, contact pruning
 //                         (static geoms nothing movable is near closed, resting objects
-//                         asleep)
-//     /physics_unpruned   the same without contact pruning, the box filter and sparse
-//                         Jacobians (physics as computed before them)
+//                         asleep), contacts from the candidate pairs, sparse Jacobians
+//     /physics_unpruned   the same without contact pruning, the candidate pairs' contact
+//                         pass and sparse Jacobians (physics as computed before them)
 //     /kinematic          the commanded configuration set, kinematics, the robot's contacts
 //   counters: contacts_per_pass (contacts per collision detection: per timestep in physics,
 //   per period in kinematic mode) and sim_speed (simulated seconds per second)
@@ -81,8 +81,9 @@ BENCHMARK(BM_ControlPeriod_Raw)->Unit(benchmark::kMicrosecond);
 void BM_ControlPeriod_Skillset(benchmark::State& state, mujoco::ExecutionMode mode, bool prune) {
   mujoco::SimulationOptions options;
   options.execution = mode;
-  options.pruning = {prune, prune, prune};
+  options.pruning = {prune, prune};
   options.sparse_jacobian = prune;
+  options.candidate_pairs = prune;
   auto skills = make_skillset(options);
   const std::vector<double> rest = skills->configuration({"left_arm"});
   const long passes = skills->work().contact_passes, contacts = skills->work().contacts;

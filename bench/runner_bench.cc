@@ -141,8 +141,9 @@ void BM_RunSuite_RawStepping(benchmark::State& state) {
           harness::draw_trial_layout(plan.scenarios[static_cast<size_t>(spec.scenario)],
                                      mujoco::MujocoLoadedScene(scene), spec.layout_seed, spec.id);
       mujoco::SimulationOptions options;
-      options.pruning = {false, false, false};
+      options.pruning = {false, false};
       options.sparse_jacobian = false;
+      options.candidate_pairs = false;
       mujoco::MujocoSkillset skills(scene, options);
       skills.apply_layout(layout);
       const mjModel* m = skills.model();

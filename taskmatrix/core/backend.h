@@ -26,7 +26,8 @@ struct TrialWorldOptions {
   // "physics" (dynamics, contact pruning), "kinematic" (configurations set along the
   // trajectory, collisions checked each control period) or "physics_unpruned" (dynamics
   // computing every contact, as MuJoCo does with the scene's own options: the reference that
-  // pruning, the box filter and sparse Jacobians are checked and measured against).
+  // pruning, the candidate-pair contact pass and sparse Jacobians are checked and measured
+  // against).
   std::string execution = "physics";
   double visitor_speed_mps = 0;  // the visitor's walk (0: stands still)
   double record_rate_hz = 0;     // > 0: the skillset records its state (Skillset::recording)

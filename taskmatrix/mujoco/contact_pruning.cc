@@ -2,63 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 
 #include "taskmatrix/mujoco/body_kinematics.h"
 
 namespace taskmatrix::mujoco {
-
-int contact_filter_with_boxes(const mjModel* m, mjData* d, int g1, int g2) {
-  // MuJoCo 2.2.2's own filter (mj_contactFilter): collision bits, one weld body, weld parent.
-  if (!(m->geom_contype[g1] & m->geom_conaffinity[g2]) &&
-      !(m->geom_contype[g2] & m->geom_conaffinity[g1])) {
-    return 1;
-  }
-  const int w1 = m->body_weldid[m->geom_bodyid[g1]];
-  const int w2 = m->body_weldid[m->geom_bodyid[g2]];
-  if (w1 == w2) return 1;
-  if (!(m->opt.disableflags & mjDSBL_FILTERPARENT) && w1 && w2 &&
-      (w1 == m->body_weldid[m->body_parentid[w2]] || w2 == m->body_weldid[m->body_parentid[w1]])) {
-    return 1;
-  }
-  // The margin MuJoCo gives the pair (mj_assignMargin: the larger one, or the override).
-  const mjtNum margin = (m->opt.enableflags & mjENBL_OVERRIDE)
-                            ? m->opt.o_margin
-                            : std::max(m->geom_margin[g1], m->geom_margin[g2]);
-  const mjtNum r1 = m->geom_rbound[g1], r2 = m->geom_rbound[g2];
-  if (r1 > 0 && r2 > 0) {  // not planes or height fields
-    if (m->geom_type[g1] == mjGEOM_BOX &&
-        sphere_clear_of_box(m, d, g1, d->geom_xpos + 3 * g2, r2 + margin)) {
-      return 1;
-    }
-    if (m->geom_type[g2] == mjGEOM_BOX &&
-        sphere_clear_of_box(m, d, g2, d->geom_xpos + 3 * g1, r1 + margin)) {
-      return 1;
-    }
-  }
-  return 0;
-}
-
-namespace {
-
-// Installs contact_filter_with_boxes while at least one user steps (see contact_pruning.h).
-void use_box_filter(bool use) {
-  static std::mutex mutex;
-  static int users = 0;
-  static bool installed = false;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (use) {
-    if (users++ == 0 && mjcb_contactfilter == nullptr) {
-      mjcb_contactfilter = contact_filter_with_boxes;
-      installed = true;
-    }
-  } else if (--users == 0 && installed) {
-    if (mjcb_contactfilter == contact_filter_with_boxes) mjcb_contactfilter = nullptr;
-    installed = false;
-  }
-}
-
-}  // namespace
 
 ContactPruning::ContactPruning(const Scene& scene, const mjModel* m, ContactPruningOptions options)
     : options_(options) {
@@ -158,16 +105,8 @@ void ContactPruning::set_tree_bits(mjModel* m, const Tree& t, bool on) const {
   for (int g : t.geoms) set_bits(m, g, on);
 }
 
-ContactPruning::~ContactPruning() {
-  if (uses_filter_) use_box_filter(false);  // a step that threw between begin() and end()
-}
-
 void ContactPruning::begin(mjModel* m) {
   active_ = true;
-  if (options_.filter_box_pairs && !uses_filter_) {
-    use_box_filter(true);
-    uses_filter_ = true;
-  }
   // The state may have jumped since the last period (a configuration set, a layout, a hold):
   // the first step decides every static geom afresh.
   static_countdown_ = 0;
@@ -191,8 +130,6 @@ void ContactPruning::begin(mjModel* m) {
 
 void ContactPruning::end(mjModel* m) {
   active_ = false;
-  if (uses_filter_) use_box_filter(false);
-  uses_filter_ = false;
   if (holds_applied_) {  // every bit as it was at begin(); `on` is as compiled again
     std::copy(saved_contype_.begin(), saved_contype_.end(), m->geom_contype);
     std::copy(saved_conaffinity_.begin(), saved_conaffinity_.end(), m->geom_conaffinity);

@@ -33,17 +33,6 @@
 //     it still collides with everything else, the other hand and a second held object
 //     included. Exact for every other pair.
 //
-//   - A geom pair with a box (a table top, a leg, a shelf, a robot's box link) whose other geom's
-//     bounding sphere, grown by the pair's margin, lies wholly outside the box (its oriented
-//     box, not its bounding sphere) is rejected before MuJoCo's narrow phase. MuJoCo offers
-//     this only as its contact-filter callback (mjcb_contactfilter), which replaces its own
-//     filter: contact_filter_with_boxes() applies MuJoCo 2.2.2's filter as it is (collision
-//     bits, one weld body, weld parent) and then the box test. Exact: a pair so rejected is one
-//     whose narrow phase finds nothing within the margin. The callback is process-wide: it is
-//     installed while some pruning is between begin() and end() (counted across threads), and
-//     never over a callback someone else installed (then MuJoCo's or their filter decides,
-//     and the contacts are the same).
-//
 // Bits are cleared only between begin() and end(), while the simulation steps: queries (IK,
 // validity, planning) always see the model as it was before begin() (as compiled, with the
 // layout's obstacle slots and the variation's furniture applied).
@@ -65,19 +54,12 @@ inline constexpr double kRestTimeS = 0.1;
 struct ContactPruningOptions {
   bool gate_static_geoms = true;
   bool sleep_resting_objects = true;
-  bool filter_box_pairs = true;
 };
-
-// MuJoCo 2.2.2's geom-pair filter, then the box test above (an mjfConFilt: nonzero rejects).
-int contact_filter_with_boxes(const mjModel* m, mjData* d, int g1, int g2);
 
 class ContactPruning {
  public:
   // `m` is the worker's model as compiled (its collision bits are the ones restored).
   ContactPruning(const Scene& scene, const mjModel* m, ContactPruningOptions options);
-  ~ContactPruning();
-  ContactPruning(const ContactPruning&) = delete;
-  ContactPruning& operator=(const ContactPruning&) = delete;
 
   // Applies the cleared bits to the worker's model; end() restores every bit.
   void begin(mjModel* m);
@@ -153,7 +135,6 @@ class ContactPruning {
   int static_check_steps_ = 1;  // kStaticCheckS in timesteps
   int static_countdown_ = 0;    // steps to the next check of the static geoms (0: now)
   bool active_ = false;  // between begin() and end()
-  bool uses_filter_ = false;  // this begin() counted itself a user of the box filter
 };
 
 }  // namespace taskmatrix::mujoco

@@ -19,8 +19,9 @@ SimulationOptions simulation_options(const std::string& execution) {
     simulation.execution = ExecutionMode::kKinematic;
   } else if (execution == "physics_unpruned") {
     simulation.execution = ExecutionMode::kPhysics;
-    simulation.pruning = {false, false, false};
+    simulation.pruning = {false, false};
     simulation.sparse_jacobian = false;
+    simulation.candidate_pairs = false;
   } else {
     throw std::invalid_argument("unknown execution mode '" + execution +
                                 "' (physics, kinematic or physics_unpruned)");

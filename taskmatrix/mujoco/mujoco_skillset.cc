@@ -33,11 +33,14 @@ MujocoSkillset::MujocoSkillset(std::shared_ptr<const Scene> scene, SimulationOpt
       belief_(*scene_),
       world_(*scene_, worker_.model()),
       execution_(options.execution),
-      pruning_(*scene_, worker_.model(), options.pruning) {
+      pruning_(*scene_, worker_.model(), options.pruning),
+      contacts_(worker_.model()) {
   if (execution_ == ExecutionMode::kPhysics && options.sparse_jacobian &&
       worker_.model()->opt.jacobian == mjJAC_AUTO) {
     worker_.model()->opt.jacobian = mjJAC_SPARSE;
   }
+  own_contacts_ =
+      execution_ == ExecutionMode::kPhysics && options.candidate_pairs && contacts_.usable();
   const mjModel* m = worker_.model();
   if (!(std::isfinite(options.control_rate_hz) && options.control_rate_hz > 0)) {
     throw std::invalid_argument("control rate must be a positive number of Hz");
@@ -509,7 +512,12 @@ void MujocoSkillset::step_physics() {
       place_attachments(m, d, held_.list());
     }
     pruning_.before_collision(m, d);
-    mj_step1(m, d);  // kinematics, contacts, bias forces at the new state
+    // Kinematics, contacts, bias forces at the new state.
+    if (own_contacts_) {
+      contacts_.step1(m, d);
+    } else {
+      mj_step1(m, d);
+    }
     ++mutable_work().contact_passes;
     mutable_work().contacts += d->ncon;
   }

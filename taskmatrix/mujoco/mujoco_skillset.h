@@ -11,7 +11,9 @@
 //     feed-forward on the robot's joints (qfrc_applied = bias forces + M * commanded
 //     acceleration + damping * commanded velocity), so tracking error reflects the trajectory
 //     and the gains, not gravity. Held objects are moved kinematically with their holder
-//     before every substep. Contacts that cannot matter are pruned (contact_pruning.h).
+//     before every substep. Contacts that cannot matter are pruned (contact_pruning.h), and
+//     mj_step1's contact pass finds MuJoCo's contacts from candidate pairs
+//     (physics_contacts.h), with MuJoCo's sparse Jacobians where the model leaves the choice.
 //   - kinematic: the paper's kinematically simulated robot. advance() sets the robot's joints
 //     to the commanded positions (and velocities) at the end of the period, moves held objects
 //     with their holders, and finds the contacts of the robot and what it holds with the
@@ -51,6 +53,7 @@
 #include "taskmatrix/mujoco/joint_servo.h"
 #include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/obstacle_belief.h"
+#include "taskmatrix/mujoco/physics_contacts.h"
 #include "taskmatrix/mujoco/scene.h"
 #include "taskmatrix/mujoco/validity_checker.h"
 #include "taskmatrix/mujoco/world_script.h"
@@ -78,6 +81,10 @@ struct SimulationOptions {
   // equations; sums in another order, so states differ at rounding level. A model that sets
   // `jacobian` keeps its choice.
   bool sparse_jacobian = true;
+  // Physics mode: each step's contacts from the scene's candidate pairs (PhysicsContacts,
+  // physics_contacts.h: the same contacts, without MuJoCo's broadphase, pairs a box keeps apart
+  // skipped) instead of mj_collision.
+  bool candidate_pairs = true;
   // Execution monitoring (WorkRecord): how often the moving chains' clearance is sampled
   // (0: never) and the distance it is capped at.
   double clearance_rate_hz = 10.0;
@@ -208,6 +215,8 @@ class MujocoSkillset final : public core::Skillset {
   WorldScript world_;
   ExecutionMode execution_ = ExecutionMode::kPhysics;
   ContactPruning pruning_;
+  PhysicsContacts contacts_;    // the physics steps' contact pass
+  bool own_contacts_ = false;   // step with contacts_ (physics, candidate_pairs, usable)
   // frame_pose_at's path from the world to the frame's body, for the last joints and body
   // asked (programs ask the same many times a period), and the qpos it poses.
   std::optional<ChainPath> fk_path_;

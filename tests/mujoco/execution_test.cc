@@ -6,11 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+#include <tuple>
 
 #include "taskmatrix/mujoco/attachments.h"
 #include "taskmatrix/mujoco/contact_pruning.h"
 #include "taskmatrix/mujoco/kinematics.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
+#include "taskmatrix/mujoco/physics_contacts.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::mujoco {
@@ -63,8 +66,8 @@ TEST_P(ExecutionOnBothRobots, ClosingStaticGeomsNothingComesNearChangesNothing) 
   // world as trials draw it: 12 obstacles from a layout and the table lowered to 0.6 m (its top
   // moves, its legs shrink), so the gate sees the layout's and the variation's geoms.
   SimulationOptions gated, plain;
-  gated.pruning = {true, false, false};
-  plain.pruning = {false, false, false};
+  gated.pruning = {true, false};
+  plain.pruning = {false, false};
   auto a = make_skills(GetParam(), gated);
   auto b = make_skills(GetParam(), plain);
   const core::SurfaceGeometry& table = *a->scene().world_geometry().surface("work_surface");
@@ -129,8 +132,8 @@ TEST_P(ExecutionOnBothRobots, AStaticGeomClosedBeforeTheRobotWasSetBesideItColli
   // the counter, which nothing came near before. Gated and ungated physics must stay equal.
   SimulationOptions gated, plain;
   gated.control_rate_hz = plain.control_rate_hz = 1.0 / 0.006;
-  gated.pruning = {true, false, false};
-  plain.pruning = {false, false, false};
+  gated.pruning = {true, false};
+  plain.pruning = {false, false};
   auto a = make_skills(GetParam(), gated);
   auto b = make_skills(GetParam(), plain);
   ASSERT_EQ(std::lround(a->control_period() / a->model()->opt.timestep), 3);
@@ -167,78 +170,89 @@ TEST_P(ExecutionOnBothRobots, AStaticGeomClosedBeforeTheRobotWasSetBesideItColli
   EXPECT_TRUE(touching_counter) << "the robot was not set against the counter";
 }
 
-TEST_P(ExecutionOnBothRobots, TheBoxFilterSkipsOnlyPairsWithoutContact) {
-  // The arm reaching over the cup on the table, with and without the box filter (nothing else
-  // pruned in either): bit-identical states and the same contacts every period. Every tenth
-  // period, every geom pair the filter rejects though MuJoCo's own filter and bounding spheres
-  // let it through is handed to MuJoCo's narrow phase, which must find nothing.
-  SimulationOptions filtered, plain;
-  filtered.pruning = {false, false, true};
-  plain.pruning = {false, false, false};
-  auto a = make_skills(GetParam(), filtered);
-  auto b = make_skills(GetParam(), plain);
+// Every contact field mj_collision sets, compared exactly; contacts ordered by what they are.
+void expect_same_contacts(const mjData* a, const mjData* b, const std::string& where) {
+  ASSERT_EQ(a->ncon, b->ncon) << where;
+  auto sorted = [](const mjData* d) {
+    std::vector<const mjContact*> c;
+    for (int i = 0; i < d->ncon; ++i) c.push_back(d->contact + i);
+    std::sort(c.begin(), c.end(), [](const mjContact* x, const mjContact* y) {
+      return std::tie(x->geom1, x->geom2, x->pos[0], x->pos[1], x->pos[2]) <
+             std::tie(y->geom1, y->geom2, y->pos[0], y->pos[1], y->pos[2]);
+    });
+    return c;
+  };
+  const std::vector<const mjContact*> x = sorted(a), y = sorted(b);
+  for (size_t i = 0; i < x.size(); ++i) {
+    const mjContact &p = *x[i], &q = *y[i];
+    const std::string at = where + ", contact of geoms " + std::to_string(p.geom1) + " and " +
+                           std::to_string(p.geom2);
+    ASSERT_EQ(p.geom1, q.geom1) << at;
+    ASSERT_EQ(p.geom2, q.geom2) << at;
+    EXPECT_EQ(p.dist, q.dist) << at;
+    EXPECT_EQ(p.dim, q.dim) << at;
+    EXPECT_EQ(p.exclude, q.exclude) << at;
+    EXPECT_EQ(p.includemargin, q.includemargin) << at;
+    EXPECT_EQ(p.efc_address, q.efc_address) << at;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(p.pos[k], q.pos[k]) << at;
+    for (int k = 0; k < 9; ++k) EXPECT_EQ(p.frame[k], q.frame[k]) << at;
+    for (int k = 0; k < 5; ++k) EXPECT_EQ(p.friction[k], q.friction[k]) << at;
+    for (int k = 0; k < mjNREF; ++k) EXPECT_EQ(p.solref[k], q.solref[k]) << at;
+    for (int k = 0; k < mjNIMP; ++k) EXPECT_EQ(p.solimp[k], q.solimp[k]) << at;
+  }
+}
+
+TEST_P(ExecutionOnBothRobots, TheCandidatePairsFindTheContactsMuJoCoFinds) {
+  // Along the arm's motion over the cup (objects resting on the table, the vacuum's debris on
+  // the floor), then with the robot set against the counter and its forearm lowered onto the
+  // table: the physics mode's contact pass finds every contact mj_collision finds, field for
+  // field, and no other.
+  auto skills = make_skills(GetParam(), SimulationOptions{});
+  const mjModel* m = skills->model();
+  const PhysicsContacts contacts(m);
+  ASSERT_TRUE(contacts.usable());
+  DataPtr mine = make_data(m), theirs = make_data(m);
+  long compared = 0, with_robot = 0;
+  auto compare = [&](const std::string& where) {
+    mj_copyData(mine.get(), m, skills->sim_data());
+    mj_copyData(theirs.get(), m, skills->sim_data());
+    mj_kinematics(m, mine.get());
+    mj_kinematics(m, theirs.get());
+    contacts.collide(m, mine.get());
+    mj_collision(m, theirs.get());
+    expect_same_contacts(mine.get(), theirs.get(), where);
+    compared += theirs->ncon;
+    for (int c = 0; c < theirs->ncon; ++c) {
+      with_robot += skills->scene().is_robot_body(m->geom_bodyid[theirs->contact[c].geom1]) ||
+                    skills->scene().is_robot_body(m->geom_bodyid[theirs->contact[c].geom2]);
+    }
+  };
   const Chains chains = {"right_arm", "torso"};
-  const std::vector<double> goal = arm_over_the_cup(*a, "right");
+  const std::vector<double> goal = arm_over_the_cup(*skills, "right");
   ASSERT_FALSE(goal.empty());
   core::PlanOptions options;
   options.time_limit_s = 10;
-  const core::PlanResult plan = a->plan_to_configuration(chains, goal, options);
+  const core::PlanResult plan = skills->plan_to_configuration(chains, goal, options);
   ASSERT_TRUE(plan.success()) << plan.message;
-  const core::Trajectory motion = a->time_parameterize(chains, plan.path);
-  const mjModel* m = a->model();
-  const mjData* d = a->sim_data();
-  DataPtr scratch = make_data(m);  // the narrow phase's working memory
-  long skipped = 0, contacts = 0;
-  for (int k = 0; k * a->control_period() < motion.duration() + 0.3; ++k) {
-    const core::TrajectorySample s = motion.sample(k * a->control_period());
-    const std::vector<double> q(s.position.data(), s.position.data() + s.position.size());
-    const std::vector<double> v(s.velocity.data(), s.velocity.data() + s.velocity.size());
-    a->command(chains, q, v);
-    b->command(chains, q, v);
-    a->advance();
-    b->advance();
-    EXPECT_EQ(mjcb_contactfilter, nullptr) << "installed outside the steps";
-    for (int i = 0; i < m->nq; ++i) {
-      ASSERT_EQ(d->qpos[i], b->sim_data()->qpos[i]) << "qpos " << i << " period " << k;
-    }
-    ASSERT_EQ(d->ncon, b->sim_data()->ncon) << "period " << k;
-    for (int c = 0; c < d->ncon; ++c) {
-      const mjContact &x = d->contact[c], &y = b->sim_data()->contact[c];
-      ASSERT_EQ(x.geom1, y.geom1);
-      ASSERT_EQ(x.geom2, y.geom2);
-      ASSERT_EQ(x.dist, y.dist);
-    }
-    contacts += d->ncon;
-    if (k % 10 != 0) continue;
-    mj_copyData(scratch.get(), m, d);
-    mjContact found[mjMAXCONPAIR];
-    for (int g1 = 0; g1 < m->ngeom; ++g1) {
-      for (int g2 = g1 + 1; g2 < m->ngeom; ++g2) {
-        if (!contact_filter_with_boxes(m, scratch.get(), g1, g2)) continue;
-        const int w1 = m->body_weldid[m->geom_bodyid[g1]], w2 = m->body_weldid[m->geom_bodyid[g2]];
-        const bool bits = (m->geom_contype[g1] & m->geom_conaffinity[g2]) ||
-                          (m->geom_contype[g2] & m->geom_conaffinity[g1]);
-        if (!bits || w1 == w2 || (w1 && w2 && (w1 == m->body_weldid[m->body_parentid[w2]] ||
-                                               w2 == m->body_weldid[m->body_parentid[w1]]))) {
-          continue;  // MuJoCo's own filter rejects it too
-        }
-        const double margin = std::max(m->geom_margin[g1], m->geom_margin[g2]);
-        if (mju_dist3(d->geom_xpos + 3 * g1, d->geom_xpos + 3 * g2) >
-            m->geom_rbound[g1] + m->geom_rbound[g2] + margin) {
-          continue;  // and so do its bounding spheres
-        }
-        const int lo = m->geom_type[g1] <= m->geom_type[g2] ? g1 : g2;
-        const int hi = lo == g1 ? g2 : g1;
-        mjfCollision narrow = mjCOLLISIONFUNC[m->geom_type[lo]][m->geom_type[hi]];
-        if (!narrow) continue;
-        ++skipped;
-        EXPECT_EQ(narrow(m, scratch.get(), found, lo, hi, margin), 0)
-            << "period " << k << ": geoms " << g1 << " and " << g2 << " touch";
-      }
-    }
+  const core::Trajectory motion = skills->time_parameterize(chains, plan.path);
+  for (int k = 0; k * skills->control_period() < motion.duration(); ++k) {
+    const core::TrajectorySample s = motion.sample(k * skills->control_period());
+    skills->command(chains, std::vector<double>(s.position.data(),
+                                                s.position.data() + s.position.size()));
+    skills->advance();
+    compare("period " + std::to_string(k));
   }
-  EXPECT_GT(contacts, 0) << "the objects rest on the table: contacts every step";
-  EXPECT_GT(skipped, 100) << "the filter rejected no pair MuJoCo would have tested";
+  // Against the counter, the right forearm lowered to the table: the robot's own contacts.
+  const core::Pose counter = skills->frame_pose("side_surface");
+  const int head = skills->scene().head_camera();
+  const double* at = skills->sim_data()->cam_xpos + 3 * head;
+  std::vector<double> base = skills->configuration({"base"});
+  base[0] += counter.position.x() - at[0];
+  base[1] += counter.position.y() - 0.3 - at[1];
+  skills->set_configuration({"base"}, base);
+  compare("against the counter");
+  EXPECT_GT(compared, 20) << "nothing touched";
+  EXPECT_GT(with_robot, 0) << "the robot touched nothing";
 }
 
 TEST_P(ExecutionOnBothRobots, RestingObjectsSleepUntilSomethingComesNear) {

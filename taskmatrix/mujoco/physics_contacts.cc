@@ -1,0 +1,314 @@
+#include "taskmatrix/mujoco/physics_contacts.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "taskmatrix/mujoco/body_kinematics.h"
+
+namespace taskmatrix::mujoco {
+namespace {
+
+// mju_makeFrame of MuJoCo 2.2.2 (not in its public API): the contact frame from its normal.
+void make_frame(mjtNum frame[9]) {
+  mjtNum tmp[3];
+  if (mju_normalize3(frame) < 0.5) mju_error("xaxis of contact frame undefined");
+  if (mju_norm3(frame + 3) < 0.5) {
+    mju_zero3(frame + 3);
+    if (frame[1] < 0.5 && frame[1] > -0.5) {
+      frame[4] = 1;
+    } else {
+      frame[5] = 1;
+    }
+  }
+  mju_scl3(tmp, frame, mju_dot3(frame, frame + 3));
+  mju_subFrom3(frame + 3, tmp);
+  mju_normalize3(frame + 3);
+  mju_cross(frame + 6, frame, frame + 3);
+}
+
+// Signed distance of geom g2's centre from plane g1.
+mjtNum plane_distance(const mjData* d, int plane, int g) {
+  const mjtNum* mat = d->geom_xmat + 9 * plane;
+  const mjtNum normal[3] = {mat[2], mat[5], mat[8]};
+  mjtNum dif[3];
+  mju_sub3(dif, d->geom_xpos + 3 * g, d->geom_xpos + 3 * plane);
+  return mju_dot3(dif, normal);
+}
+
+}  // namespace
+
+bool PhysicsContacts::always_rejected(const mjModel* m, int g1, int g2) const {
+  const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
+  const int w1 = m->body_weldid[b1], w2 = m->body_weldid[b2];
+  if (w1 == w2) return true;
+  if (!(m->opt.disableflags & mjDSBL_FILTERPARENT) && w1 && w2 &&
+      (w1 == m->body_weldid[m->body_parentid[w2]] || w2 == m->body_weldid[m->body_parentid[w1]])) {
+    return true;
+  }
+  if (m->nexclude) {
+    const int signature = ((std::min(b1, b2) + 1) << 16) + (std::max(b1, b2) + 1);
+    for (int k = 0; k < m->nexclude; ++k) {
+      if (m->exclude_signature[k] == signature) return true;
+    }
+  }
+  return false;
+}
+
+PhysicsContacts::PhysicsContacts(const mjModel* m) {
+  usable_ = m->npair == 0 && m->opt.collision == mjCOL_ALL;
+  if (!usable_) return;
+  for (int g = 0; g < m->ngeom; ++g) {
+    (m->body_weldid[m->geom_bodyid[g]] == 0 ? static_geoms_ : moving_geoms_).push_back(g);
+  }
+  // Moving bodies and their bounding spheres (geoms are numbered body by body).
+  for (size_t i = 0; i < moving_geoms_.size(); ++i) {
+    const int g = moving_geoms_[i];
+    const int body = m->geom_bodyid[g];
+    if (bodies_.empty() || bodies_.back().id != body) bodies_.push_back({body, {}});
+    bodies_.back().geoms.push_back(static_cast<int>(i));
+  }
+  for (Body& b : bodies_) {
+    for (const int i : b.geoms) {
+      for (int k = 0; k < 3; ++k) b.local_center[k] += m->geom_pos[3 * moving_geoms_[i] + k];
+    }
+    for (double& c : b.local_center) c /= static_cast<double>(b.geoms.size());
+    for (const int i : b.geoms) {
+      const int g = moving_geoms_[i];
+      if (!(m->geom_rbound[g] > 0)) {
+        b.radius = INFINITY;
+        break;
+      }
+      const double* p = m->geom_pos + 3 * g;
+      const double r = std::hypot(p[0] - b.local_center[0], p[1] - b.local_center[1],
+                                  p[2] - b.local_center[2]) +
+                       m->geom_rbound[g] + std::max(0.0, m->geom_margin[g]);
+      b.radius = std::max(b.radius, r);
+    }
+  }
+  for (size_t x = 0; x < bodies_.size(); ++x) {
+    for (size_t y = x + 1; y < bodies_.size(); ++y) {
+      BodyPair group{static_cast<int>(x), static_cast<int>(y), moving_pairs_.size(), 0};
+      for (const int i : bodies_[x].geoms) {
+        for (const int j : bodies_[y].geoms) {
+          const int a = moving_geoms_[i], b = moving_geoms_[j];
+          if (!always_rejected(m, a, b)) moving_pairs_.push_back({a, b});
+        }
+      }
+      group.end = moving_pairs_.size();
+      if (group.end > group.begin) body_pairs_.push_back(group);
+    }
+  }
+  centers_.resize(3 * bodies_.size());
+  with_static_.resize(moving_geoms_.size());
+  for (size_t i = 0; i < moving_geoms_.size(); ++i) {
+    with_static_[i].resize(static_geoms_.size());
+    for (size_t j = 0; j < static_geoms_.size(); ++j) {
+      with_static_[i][j] = !always_rejected(m, moving_geoms_[i], static_geoms_[j]);
+    }
+  }
+  open_static_.reserve(static_geoms_.size());
+}
+
+bool PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) const {
+  // Ordered as mj_collision and mj_collideGeoms order them: the lower body's geom first (geoms
+  // are numbered body by body), then by type if that is lower (a layout may change an
+  // obstacle's type).
+  const int lo = std::min(a, b), hi = std::max(a, b);
+  const int g1 = m->geom_type[lo] <= m->geom_type[hi] ? lo : hi;
+  const int g2 = g1 == lo ? hi : lo;
+  const int type1 = m->geom_type[g1], type2 = m->geom_type[g2];
+  const mjfCollision narrow = mjCOLLISIONFUNC[type1][type2];
+  if (!narrow) return true;
+  if (!(m->geom_contype[g1] & m->geom_conaffinity[g2]) &&
+      !(m->geom_contype[g2] & m->geom_conaffinity[g1])) {
+    return true;
+  }
+  // Margin, gap and contact dimension as mj_collideGeoms sets them for a dynamic pair.
+  mjtNum margin = std::max(m->geom_margin[g1], m->geom_margin[g2]);
+  const mjtNum gap = std::max(m->geom_gap[g1], m->geom_gap[g2]);
+  const bool prioritised = m->geom_priority[g1] != m->geom_priority[g2];
+  const int gp = m->geom_priority[g1] > m->geom_priority[g2] ? g1 : g2;
+  const int condim =
+      prioritised ? m->geom_condim[gp] : std::max(m->geom_condim[g1], m->geom_condim[g2]);
+  if (m->opt.enableflags & mjENBL_OVERRIDE) margin = m->opt.o_margin;
+  const mjtNum r1 = m->geom_rbound[g1], r2 = m->geom_rbound[g2];
+  if (r1 > 0 && r2 > 0 &&
+      mju_dist3(d->geom_xpos + 3 * g1, d->geom_xpos + 3 * g2) > r1 + r2 + margin) {
+    return true;
+  }
+  if (type1 == mjGEOM_PLANE && r2 > 0 && plane_distance(d, g1, g2) > margin + r2) return true;
+  if (type2 == mjGEOM_PLANE && r1 > 0 && plane_distance(d, g2, g1) > margin + r1) return true;
+  // The box test MuJoCo does not make: the other geom's bounding sphere clear of the box.
+  if (r1 > 0 && r2 > 0) {
+    if (type1 == mjGEOM_BOX && sphere_clear_of_box(m, d, g1, d->geom_xpos + 3 * g2, r2 + margin)) {
+      return true;
+    }
+    if (type2 == mjGEOM_BOX && sphere_clear_of_box(m, d, g2, d->geom_xpos + 3 * g1, r1 + margin)) {
+      return true;
+    }
+  }
+  mjContact con[mjMAXCONPAIR];
+  int num = narrow(m, d, con, g1, g2, margin);
+  if (num <= 0) return true;
+  if (num > mjMAXCONPAIR) mju_error("Too many contacts returned by collision function");
+  if (type1 == mjGEOM_BOX && type2 == mjGEOM_BOX) {  // repeated points of box-box
+    for (int i = 0; i < num; ++i) con[i].dim = 0;
+    for (int i = 0; i < num - 1; ++i) {
+      for (int j = i + 1; j < num; ++j) {
+        if (con[i].pos[0] == con[j].pos[0] && con[i].pos[1] == con[j].pos[1] &&
+            con[i].pos[2] == con[j].pos[2]) {
+          con[i].dim = -1;
+          break;
+        }
+      }
+    }
+    int kept = 0;
+    for (int j = 0; j < num; ++j) {
+      if (con[j].dim == 0) {
+        if (kept < j) con[kept] = con[j];
+        ++kept;
+      }
+    }
+    num = kept;
+  }
+  // Friction, solref and solimp: the prioritised geom's, else the larger friction and the mix.
+  mjtNum friction[5], solref[mjNREF], solimp[mjNIMP];
+  if (prioritised) {
+    for (int i = 0; i < 3; ++i) friction[2 * i] = m->geom_friction[3 * gp + i];
+    mju_copy(solref, m->geom_solref + mjNREF * gp, mjNREF);
+    mju_copy(solimp, m->geom_solimp + mjNIMP * gp, mjNIMP);
+  } else {
+    for (int i = 0; i < 3; ++i) {
+      friction[2 * i] = std::max(m->geom_friction[3 * g1 + i], m->geom_friction[3 * g2 + i]);
+    }
+    const mjtNum s1 = m->geom_solmix[g1], s2 = m->geom_solmix[g2];
+    mjtNum mix;
+    if (s1 >= mjMINVAL && s2 >= mjMINVAL) {
+      mix = s1 / (s1 + s2);
+    } else if (s1 < mjMINVAL && s2 < mjMINVAL) {
+      mix = 0.5;
+    } else if (s1 < mjMINVAL) {
+      mix = 0.0;
+    } else {
+      mix = 1.0;
+    }
+    const mjtNum* ref1 = m->geom_solref + mjNREF * g1;
+    const mjtNum* ref2 = m->geom_solref + mjNREF * g2;
+    if (ref1[0] > 0 && ref2[0] > 0) {
+      for (int i = 0; i < mjNREF; ++i) solref[i] = mix * ref1[i] + (1 - mix) * ref2[i];
+    } else {
+      for (int i = 0; i < mjNREF; ++i) solref[i] = std::min(ref1[i], ref2[i]);
+    }
+    mju_scl(solimp, m->geom_solimp + mjNIMP * g1, mix, mjNIMP);
+    mju_addToScl(solimp, m->geom_solimp + mjNIMP * g2, 1 - mix, mjNIMP);
+  }
+  friction[1] = friction[0];
+  friction[3] = friction[4];
+  for (mjtNum& f : friction) f = std::max(mjMINMU, f);
+  const bool override = m->opt.enableflags & mjENBL_OVERRIDE;
+  for (int i = 0; i < num; ++i) {
+    mjContact& c = con[i];
+    c.dim = condim;
+    c.geom1 = g1;
+    c.geom2 = g2;
+    c.includemargin = margin - gap;
+    mju_copy(c.friction, friction, 5);
+    mju_copy(c.solref, override ? m->opt.o_solref : solref, mjNREF);
+    mju_copy(c.solimp, override ? m->opt.o_solimp : solimp, mjNIMP);
+    c.exclude = c.dist < c.includemargin ? 0 : 1;
+    make_frame(c.frame);
+    c.efc_address = -1;
+    c.mu = 0;
+    mju_zero(c.H, 36);
+    if (mj_addContact(m, d, &c)) return false;
+  }
+  return true;
+}
+
+void PhysicsContacts::collide(const mjModel* m, mjData* d) const {
+  if (!usable_ || mjcb_contactfilter) {  // a user's filter decides in MuJoCo's pipeline
+    mj_collision(m, d);
+    return;
+  }
+  d->ncon = 0;
+  if ((m->opt.disableflags & (mjDSBL_CONSTRAINT | mjDSBL_CONTACT)) || m->nconmax == 0 ||
+      m->nbody < 2) {
+    return;
+  }
+  // A body's sphere may skip its pairs whole only with the geoms' own margins (no override).
+  const bool spheres = !(m->opt.enableflags & mjENBL_OVERRIDE);
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const int id = bodies_[b].id;
+    double* c = centers_.data() + 3 * b;
+    mju_rotVecMat(c, bodies_[b].local_center, d->xmat + 9 * id);
+    mju_addTo3(c, d->xpos + 3 * id);
+  }
+  auto apart = [&](const double* c1, double r1, const double* c2, double r2) {
+    const double dx = c1[0] - c2[0], dy = c1[1] - c2[1], dz = c1[2] - c2[2];
+    const double reach = r1 + r2;
+    return spheres && dx * dx + dy * dy + dz * dz > reach * reach;
+  };
+  for (const BodyPair& group : body_pairs_) {
+    const Body &x = bodies_[static_cast<size_t>(group.body1)], &y = bodies_[static_cast<size_t>(group.body2)];
+    if (apart(centers_.data() + 3 * group.body1, x.radius, centers_.data() + 3 * group.body2,
+              y.radius)) {
+      continue;  // MuJoCo's bounding-sphere test would reject each of its pairs
+    }
+    for (size_t k = group.begin; k < group.end; ++k) {
+      if (!collide_pair(m, d, moving_pairs_[k].g1, moving_pairs_[k].g2)) return;
+    }
+  }
+  // Static geoms with collision bits now (pruning clears the bits of those nothing is near).
+  open_static_.clear();
+  for (size_t j = 0; j < static_geoms_.size(); ++j) {
+    const int g = static_geoms_[j];
+    if (m->geom_contype[g] || m->geom_conaffinity[g]) open_static_.push_back(static_cast<int>(j));
+  }
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const double* c = centers_.data() + 3 * b;
+    const double r = bodies_[b].radius;
+    for (const int j : open_static_) {
+      const int s = static_geoms_[static_cast<size_t>(j)];
+      const double margin = std::max(0.0, m->geom_margin[s]);
+      if (m->geom_rbound[s] > 0) {
+        if (apart(c, r, d->geom_xpos + 3 * s, m->geom_rbound[s] + margin)) continue;
+      } else if (spheres && m->geom_type[s] == mjGEOM_PLANE && std::isfinite(r)) {
+        const double* mat = d->geom_xmat + 9 * s;
+        const double* at = d->geom_xpos + 3 * s;
+        const double height = (c[0] - at[0]) * mat[2] + (c[1] - at[1]) * mat[5] +
+                              (c[2] - at[2]) * mat[8];
+        if (height > r + margin) continue;
+      }
+      for (const int i : bodies_[b].geoms) {
+        if (!with_static_[static_cast<size_t>(i)][static_cast<size_t>(j)]) continue;
+        const int g = moving_geoms_[static_cast<size_t>(i)];
+        if (!m->geom_contype[g] && !m->geom_conaffinity[g]) continue;
+        if (!collide_pair(m, d, g, s)) return;
+      }
+    }
+  }
+}
+
+void PhysicsContacts::step1(const mjModel* m, mjData* d) const {
+  mj_checkPos(m, d);
+  mj_checkVel(m, d);
+  // mj_fwdPosition with collide() for mj_collision.
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  mj_camlight(m, d);
+  mj_tendon(m, d);
+  mj_crb(m, d);
+  mj_factorM(m, d);
+  collide(m, d);
+  mj_makeConstraint(m, d);
+  mj_transmission(m, d);
+  mj_projectConstraint(m, d);
+  mj_sensorPos(m, d);
+  mj_energyPos(m, d);
+  mj_fwdVelocity(m, d);
+  mj_sensorVel(m, d);
+  mj_energyVel(m, d);
+  if (mjcb_control) mjcb_control(m, d);
+}
+
+}  // namespace taskmatrix::mujoco
