@@ -109,7 +109,7 @@ PhysicsContacts::PhysicsContacts(const mjModel* m) {
   open_static_.reserve(static_geoms_.size());
 }
 
-bool PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) const {
+void PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) const {
   // Ordered as mj_collision and mj_collideGeoms order them: the lower body's geom first (geoms
   // are numbered body by body), then by type if that is lower (a layout may change an
   // obstacle's type).
@@ -118,10 +118,10 @@ bool PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) co
   const int g2 = g1 == lo ? hi : lo;
   const int type1 = m->geom_type[g1], type2 = m->geom_type[g2];
   const mjfCollision narrow = mjCOLLISIONFUNC[type1][type2];
-  if (!narrow) return true;
+  if (!narrow) return;
   if (!(m->geom_contype[g1] & m->geom_conaffinity[g2]) &&
       !(m->geom_contype[g2] & m->geom_conaffinity[g1])) {
-    return true;
+    return;
   }
   // Margin, gap and contact dimension as mj_collideGeoms sets them for a dynamic pair.
   mjtNum margin = std::max(m->geom_margin[g1], m->geom_margin[g2]);
@@ -134,22 +134,22 @@ bool PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) co
   const mjtNum r1 = m->geom_rbound[g1], r2 = m->geom_rbound[g2];
   if (r1 > 0 && r2 > 0 &&
       mju_dist3(d->geom_xpos + 3 * g1, d->geom_xpos + 3 * g2) > r1 + r2 + margin) {
-    return true;
+    return;
   }
-  if (type1 == mjGEOM_PLANE && r2 > 0 && plane_distance(d, g1, g2) > margin + r2) return true;
-  if (type2 == mjGEOM_PLANE && r1 > 0 && plane_distance(d, g2, g1) > margin + r1) return true;
+  if (type1 == mjGEOM_PLANE && r2 > 0 && plane_distance(d, g1, g2) > margin + r2) return;
+  if (type2 == mjGEOM_PLANE && r1 > 0 && plane_distance(d, g2, g1) > margin + r1) return;
   // The box test MuJoCo does not make: the other geom's bounding sphere clear of the box.
   if (r1 > 0 && r2 > 0) {
     if (type1 == mjGEOM_BOX && sphere_clear_of_box(m, d, g1, d->geom_xpos + 3 * g2, r2 + margin)) {
-      return true;
+      return;
     }
     if (type2 == mjGEOM_BOX && sphere_clear_of_box(m, d, g2, d->geom_xpos + 3 * g1, r1 + margin)) {
-      return true;
+      return;
     }
   }
   mjContact con[mjMAXCONPAIR];
   int num = narrow(m, d, con, g1, g2, margin);
-  if (num <= 0) return true;
+  if (num <= 0) return;
   if (num > mjMAXCONPAIR) mju_error("Too many contacts returned by collision function");
   if (type1 == mjGEOM_BOX && type2 == mjGEOM_BOX) {  // repeated points of box-box
     for (int i = 0; i < num; ++i) con[i].dim = 0;
@@ -220,9 +220,8 @@ bool PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) co
     c.efc_address = -1;
     c.mu = 0;
     mju_zero(c.H, 36);
-    if (mj_addContact(m, d, &c)) return false;
+    if (mj_addContact(m, d, &c)) return;  // full: MuJoCo warns, then tries the next pair
   }
-  return true;
 }
 
 void PhysicsContacts::collide(const mjModel* m, mjData* d) const {
@@ -255,7 +254,7 @@ void PhysicsContacts::collide(const mjModel* m, mjData* d) const {
       continue;  // MuJoCo's bounding-sphere test would reject each of its pairs
     }
     for (size_t k = group.begin; k < group.end; ++k) {
-      if (!collide_pair(m, d, moving_pairs_[k].g1, moving_pairs_[k].g2)) return;
+      collide_pair(m, d, moving_pairs_[k].g1, moving_pairs_[k].g2);
     }
   }
   // Static geoms with collision bits now (pruning clears the bits of those nothing is near).
@@ -283,7 +282,7 @@ void PhysicsContacts::collide(const mjModel* m, mjData* d) const {
         if (!with_static_[static_cast<size_t>(i)][static_cast<size_t>(j)]) continue;
         const int g = moving_geoms_[static_cast<size_t>(i)];
         if (!m->geom_contype[g] && !m->geom_conaffinity[g]) continue;
-        if (!collide_pair(m, d, g, s)) return;
+        collide_pair(m, d, g, s);
       }
     }
   }

@@ -58,8 +58,8 @@ class PhysicsContacts {
     int body1, body2;  // indices into bodies_
     size_t begin, end;  // range in moving_pairs_
   };
-  // Tests one pair; false when the contact array is full.
-  bool collide_pair(const mjModel* m, mjData* d, int a, int b) const;
+  // Tests one pair and adds its contacts (as far as the contact array holds them).
+  void collide_pair(const mjModel* m, mjData* d, int a, int b) const;
   bool always_rejected(const mjModel* m, int g1, int g2) const;
 
   bool usable_ = false;
