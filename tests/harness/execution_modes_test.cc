@@ -74,7 +74,6 @@ class ExecutionModes : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
   const Case& c = GetParam();
-  if (const auto why = test::known_mode_difference(c.program, c.robot)) GTEST_SKIP() << *why;
   Scenario s =
       load_scenario(test::catalog().root() / "scenarios" / "programs" / (c.program + ".yaml"),
                     test::catalog(), registry());
@@ -102,6 +101,11 @@ TEST_P(ExecutionModes, SameSuccessAndPathsThatDifferOnlyWithTheirStart) {
   const mujoco::Scene& mujoco_scene = *mujoco::scene_of(*scene);
   const std::vector<PlanAt> a = plans_of(physics, mujoco_scene),
                             b = plans_of(kinematic, mujoco_scene);
+  // A known difference still succeeds in both modes (above); its plans are not compared.
+  if (const auto why = test::known_mode_difference(c.program, c.robot)) {
+    GTEST_SKIP() << *why << " (here " << a.size() << " plans under physics, " << b.size()
+                 << " under kinematic execution)";
+  }
   ASSERT_EQ(a.size(), b.size()) << "plan calls differ";
   int unexplained = 0, same = 0, robot_differs = 0;
   for (size_t k = 0; k < a.size(); ++k) {
