@@ -161,6 +161,8 @@ void MujocoSkillset::apply_layout(const core::ObstacleLayout& layout) {
 void MujocoSkillset::apply_layout(const core::TrialLayout& layout) {
   require_no_query("apply_layout");
   worker_.apply_variation(layout.variation);
+  // The variation may have changed the geoms of moving bodies under a surface it moved.
+  contacts_ = PhysicsContacts(worker_.model());
   world_.note_debris_places(worker_.model());  // where the variation put them
   // No settle here: reset() starts from the start state again and settles once.
   apply_obstacles(layout.obstacles);

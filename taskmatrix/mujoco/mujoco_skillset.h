@@ -82,8 +82,8 @@ struct SimulationOptions {
   // `jacobian` keeps its choice.
   bool sparse_jacobian = true;
   // Physics mode: each step's contacts from the scene's candidate pairs (PhysicsContacts,
-  // physics_contacts.h: the same contacts, without MuJoCo's broadphase, pairs a box keeps apart
-  // skipped) instead of mj_collision.
+  // physics_contacts.h: MuJoCo's contacts without its broadphase, pairs a box keeps apart
+  // skipped, and where it would differ otherwise mj_collision itself) instead of mj_collision.
   bool candidate_pairs = true;
   // Execution monitoring (WorkRecord): how often the moving chains' clearance is sampled
   // (0: never) and the distance it is capped at.

@@ -56,6 +56,9 @@ bool PhysicsContacts::always_rejected(const mjModel* m, int g1, int g2) const {
 
 PhysicsContacts::PhysicsContacts(const mjModel* m) {
   usable_ = m->npair == 0 && m->opt.collision == mjCOL_ALL;
+  // A negative margin shrinks MuJoCo's broadphase boxes below what its pair test allows, so
+  // MuJoCo misses contacts this pass would find.
+  for (int g = 0; g < m->ngeom && usable_; ++g) usable_ = m->geom_margin[g] >= 0;
   if (!usable_) return;
   for (int g = 0; g < m->ngeom; ++g) {
     (m->body_weldid[m->geom_bodyid[g]] == 0 ? static_geoms_ : moving_geoms_).push_back(g);
@@ -225,17 +228,29 @@ void PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) co
 }
 
 void PhysicsContacts::collide(const mjModel* m, mjData* d) const {
-  if (!usable_ || mjcb_contactfilter) {  // a user's filter decides in MuJoCo's pipeline
+  // MuJoCo's pipeline where this pass would not find what it finds: a user's contact filter,
+  // the margin override (MuJoCo's broadphase keeps the geoms' own margins, its pair test the
+  // override's).
+  if (!usable_ || mjcb_contactfilter || (m->opt.enableflags & mjENBL_OVERRIDE)) {
     mj_collision(m, d);
     return;
   }
+  const mjWarningStat full_before = d->warning[mjWARN_CONTACTFULL];
+  find(m, d);
+  if (d->ncon >= m->nconmax) {
+    // The array filled up: which contacts it keeps depends on the order pairs are tried in, so
+    // MuJoCo's own pass decides (and warns as it would).
+    d->warning[mjWARN_CONTACTFULL] = full_before;
+    mj_collision(m, d);
+  }
+}
+
+void PhysicsContacts::find(const mjModel* m, mjData* d) const {
   d->ncon = 0;
   if ((m->opt.disableflags & (mjDSBL_CONSTRAINT | mjDSBL_CONTACT)) || m->nconmax == 0 ||
       m->nbody < 2) {
     return;
   }
-  // A body's sphere may skip its pairs whole only with the geoms' own margins (no override).
-  const bool spheres = !(m->opt.enableflags & mjENBL_OVERRIDE);
   for (size_t b = 0; b < bodies_.size(); ++b) {
     const int id = bodies_[b].id;
     double* c = centers_.data() + 3 * b;
@@ -245,7 +260,7 @@ void PhysicsContacts::collide(const mjModel* m, mjData* d) const {
   auto apart = [&](const double* c1, double r1, const double* c2, double r2) {
     const double dx = c1[0] - c2[0], dy = c1[1] - c2[1], dz = c1[2] - c2[2];
     const double reach = r1 + r2;
-    return spheres && dx * dx + dy * dy + dz * dz > reach * reach;
+    return dx * dx + dy * dy + dz * dz > reach * reach;
   };
   for (const BodyPair& group : body_pairs_) {
     const Body &x = bodies_[static_cast<size_t>(group.body1)], &y = bodies_[static_cast<size_t>(group.body2)];
@@ -271,7 +286,7 @@ void PhysicsContacts::collide(const mjModel* m, mjData* d) const {
       const double margin = std::max(0.0, m->geom_margin[s]);
       if (m->geom_rbound[s] > 0) {
         if (apart(c, r, d->geom_xpos + 3 * s, m->geom_rbound[s] + margin)) continue;
-      } else if (spheres && m->geom_type[s] == mjGEOM_PLANE && std::isfinite(r)) {
+      } else if (m->geom_type[s] == mjGEOM_PLANE && std::isfinite(r)) {
         const double* mat = d->geom_xmat + 9 * s;
         const double* at = d->geom_xpos + 3 * s;
         const double height = (c[0] - at[0]) * mat[2] + (c[1] - at[1]) * mat[5] +

@@ -21,8 +21,17 @@
 // The same contacts as mj_collision (a test compares them field for field on states along
 // motions, objects resting, held and touched), listed in another order (candidate order, not
 // MuJoCo's body-pair order), so the constraint solver's sums run in another order and states
-// differ from MuJoCo's own pipeline at rounding level. Used only for models without predefined
-// <pair>s and with `collision="all"` (usable() says so; otherwise mj_collision runs).
+// differ from MuJoCo's own pipeline at rounding level. With one exception, a defect of MuJoCo
+// 2.2.2 (fixed in 2.3.2): its broadphase pairs a static body holding a plane or height field
+// with every body and then again with the bodies its sweep finds overlapping it (a plane's box
+// is its centre point), so a body touching the floor near the plane's centre gets each contact
+// twice; this pass lists it once. Within rounding at exact tangency (MuJoCo sweeps its boxes in
+// single precision) the two may also disagree on a pair touching at exactly its margin.
+// mj_collision runs instead where this pass would differ otherwise: predefined <pair>s,
+// `collision` other than "all", a negative geom margin, the margin override, a user's contact
+// filter callback, or a contact array that fills up (which contacts it keeps depends on order).
+// The candidate pairs and the moving bodies' spheres come from the model as it is at
+// construction: build it again after the model's geoms change (a task variation).
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -58,6 +67,8 @@ class PhysicsContacts {
     int body1, body2;  // indices into bodies_
     size_t begin, end;  // range in moving_pairs_
   };
+  // The candidate pairs' contacts.
+  void find(const mjModel* m, mjData* d) const;
   // Tests one pair and adds its contacts (as far as the contact array holds them).
   void collide_pair(const mjModel* m, mjData* d, int a, int b) const;
   bool always_rejected(const mjModel* m, int g1, int g2) const;
