@@ -82,9 +82,9 @@ PhysicsContacts::PhysicsContacts(const mjModel* m) {
         break;
       }
       const double* p = m->geom_pos + 3 * g;
-      const double r = std::hypot(p[0] - b.local_center[0], p[1] - b.local_center[1],
-                                  p[2] - b.local_center[2]) +
-                       m->geom_rbound[g] + std::max(0.0, m->geom_margin[g]);
+      const double r =
+          std::hypot(p[0] - b.local_center[0], p[1] - b.local_center[1], p[2] - b.local_center[2]) +
+          m->geom_rbound[g] + std::max(0.0, m->geom_margin[g]);
       b.radius = std::max(b.radius, r);
     }
   }
@@ -263,7 +263,8 @@ void PhysicsContacts::find(const mjModel* m, mjData* d) const {
     return dx * dx + dy * dy + dz * dz > reach * reach;
   };
   for (const BodyPair& group : body_pairs_) {
-    const Body &x = bodies_[static_cast<size_t>(group.body1)], &y = bodies_[static_cast<size_t>(group.body2)];
+    const Body &x = bodies_[static_cast<size_t>(group.body1)],
+               &y = bodies_[static_cast<size_t>(group.body2)];
     if (apart(centers_.data() + 3 * group.body1, x.radius, centers_.data() + 3 * group.body2,
               y.radius)) {
       continue;  // MuJoCo's bounding-sphere test would reject each of its pairs
@@ -289,8 +290,8 @@ void PhysicsContacts::find(const mjModel* m, mjData* d) const {
       } else if (m->geom_type[s] == mjGEOM_PLANE && std::isfinite(r)) {
         const double* mat = d->geom_xmat + 9 * s;
         const double* at = d->geom_xpos + 3 * s;
-        const double height = (c[0] - at[0]) * mat[2] + (c[1] - at[1]) * mat[5] +
-                              (c[2] - at[2]) * mat[8];
+        const double height =
+            (c[0] - at[0]) * mat[2] + (c[1] - at[1]) * mat[5] + (c[2] - at[2]) * mat[8];
         if (height > r + margin) continue;
       }
       for (const int i : bodies_[b].geoms) {

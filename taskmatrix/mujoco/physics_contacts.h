@@ -8,25 +8,26 @@
 //
 // What it computes: the candidate pairs are every pair of a geom on a moving body (a body not
 // welded to the world) with any other geom, less the pairs MuJoCo's filter always rejects (one
-// weld body, weld parent and child unless the model disables that filter, a body pair the model
-// excludes, a type pair with no collision function). Each step, a candidate is tested as
-// MuJoCo's mj_collideGeoms tests it: collision bits as they are now (pruning and holds change
-// them), the pair's margin, gap and contact dimension, the bounding spheres, a plane against
-// the other geom's sphere, then one more rejection MuJoCo lacks: the other geom's bounding
-// sphere wholly outside a box's oriented box (a table top's bounding sphere reaches far past
-// it). A pair that passes goes to MuJoCo's narrow-phase function, and its contacts get
-// friction, solref and solimp as mj_collideGeoms gives them (priority or mix, the override
-// flag), repeated box-box points dropped, the contact frame completed.
+// weld body, weld parent and child unless the model disables that filter, a body pair the
+// model excludes). Each step, a candidate is tested as MuJoCo's mj_collideGeoms tests it: a
+// collision function for the two types (a layout may change an obstacle's type), collision
+// bits as they are now (pruning and holds change them), the pair's margin, gap and contact
+// dimension, the bounding spheres, a plane against the other geom's sphere, then one more
+// rejection MuJoCo lacks: the other geom's bounding sphere wholly outside a box's oriented box
+// (a table top's bounding sphere reaches far past it). A pair that passes goes to MuJoCo's
+// narrow-phase function, and its contacts get friction, solref and solimp as mj_collideGeoms
+// gives them (priority or mix), repeated box-box points dropped, the contact frame completed.
 //
-// The same contacts as mj_collision (a test compares them field for field on states along
-// motions, objects resting, held and touched), listed in another order (candidate order, not
-// MuJoCo's body-pair order), so the constraint solver's sums run in another order and states
-// differ from MuJoCo's own pipeline at rounding level. With one exception, a defect of MuJoCo
-// 2.2.2 (fixed in 2.3.2): its broadphase pairs a static body holding a plane or height field
-// with every body and then again with the bodies its sweep finds overlapping it (a plane's box
-// is its centre point), so a body touching the floor near the plane's centre gets each contact
-// twice; this pass lists it once. Within rounding at exact tangency (MuJoCo sweeps its boxes in
-// single precision) the two may also disagree on a pair touching at exactly its margin.
+// The same contacts as mj_collision (a test compares them field for field on both robots'
+// states along a motion over the table, objects resting, and against the counter), listed in
+// another order (candidate order, not MuJoCo's body-pair order), so the constraint solver's
+// sums run in another order and states differ from MuJoCo's own pipeline at rounding level.
+// With one exception, a defect of MuJoCo 2.2.2 (fixed in 2.3.2): its broadphase pairs a static
+// body holding a plane or height field with every body and then again with the bodies its
+// sweep finds overlapping it (a plane's box is its centre point), so a body touching the floor
+// near the plane's centre gets each contact twice; this pass lists it once. Within rounding at
+// exact tangency (MuJoCo sweeps its boxes in single precision) the two may also disagree on a
+// pair touching at exactly its margin.
 // mj_collision runs instead where this pass would differ otherwise: predefined <pair>s,
 // `collision` other than "all", a negative geom margin, the margin override, a user's contact
 // filter callback, or a contact array that fills up (which contacts it keeps depends on order).
@@ -58,13 +59,13 @@ class PhysicsContacts {
   // its geoms' bounding spheres grown by their margins).
   struct Body {
     int id;
-    std::vector<int> geoms;             // indices into moving_geoms_
+    std::vector<int> geoms;  // indices into moving_geoms_
     double local_center[3] = {0, 0, 0};
-    double radius = 0;                  // infinite with a plane or height field
+    double radius = 0;  // infinite with a plane or height field
   };
   // The candidate pairs of two moving bodies.
   struct BodyPair {
-    int body1, body2;  // indices into bodies_
+    int body1, body2;   // indices into bodies_
     size_t begin, end;  // range in moving_pairs_
   };
   // The candidate pairs' contacts.
@@ -74,11 +75,11 @@ class PhysicsContacts {
   bool always_rejected(const mjModel* m, int g1, int g2) const;
 
   bool usable_ = false;
-  std::vector<Pair> moving_pairs_;   // two geoms of moving bodies, grouped by body pair
+  std::vector<Pair> moving_pairs_;  // two geoms of moving bodies, grouped by body pair
   std::vector<BodyPair> body_pairs_;
-  std::vector<Body> bodies_;         // moving bodies with geoms
-  std::vector<int> moving_geoms_;    // geoms of moving bodies
-  std::vector<int> static_geoms_;    // geoms welded to the world
+  std::vector<Body> bodies_;       // moving bodies with geoms
+  std::vector<int> moving_geoms_;  // geoms of moving bodies
+  std::vector<int> static_geoms_;  // geoms welded to the world
   // Per moving geom (index into moving_geoms_), whether each static geom may be tested with it.
   std::vector<std::vector<char>> with_static_;
   mutable std::vector<int> open_static_;  // per step: static geoms with collision bits

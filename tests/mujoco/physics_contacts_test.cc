@@ -20,17 +20,27 @@ namespace {
 ModelPtr small_world(const std::string& option = "<option/>", const std::string& margin = "0") {
   const std::string m = " margin=\"" + margin + "\"";
   return compile_mjcf_text(
-      "<mujoco>" + option + "<worldbody>"
-      "<body name=\"floor\"><geom type=\"plane\" size=\"3 3 0.1\"" + m + "/></body>"
-      "<body name=\"table\" pos=\"1 0 0.5\"><geom type=\"box\" size=\"0.6 0.4 0.02\"" + m +
+      "<mujoco>" + option +
+          "<worldbody>"
+          "<body name=\"floor\"><geom type=\"plane\" size=\"3 3 0.1\"" +
+          m +
           "/></body>"
-      "<body name=\"ball\" pos=\"1.2 0 0.569\"><freejoint/><geom type=\"sphere\" size=\"0.05\"" +
-          m + "/></body>"
-      "<body name=\"low_ball\" pos=\"0 0 0.049\"><freejoint/><geom type=\"sphere\" "
-      "size=\"0.05\"" + m + "/></body>"
-      "<body name=\"arm\" pos=\"1.0 0.5 0.6\"><joint type=\"hinge\" axis=\"1 0 0\"/>"
-      "<geom type=\"capsule\" fromto=\"0 0 0 0 -0.1 -0.05\" size=\"0.03\"" + m + "/></body>"
-      "</worldbody></mujoco>",
+          "<body name=\"table\" pos=\"1 0 0.5\"><geom type=\"box\" size=\"0.6 0.4 0.02\"" +
+          m +
+          "/></body>"
+          "<body name=\"ball\" pos=\"1.2 0 0.569\"><freejoint/><geom type=\"sphere\" "
+          "size=\"0.05\"" +
+          m +
+          "/></body>"
+          "<body name=\"low_ball\" pos=\"0 0 0.049\"><freejoint/><geom type=\"sphere\" "
+          "size=\"0.05\"" +
+          m +
+          "/></body>"
+          "<body name=\"arm\" pos=\"1.0 0.5 0.6\"><joint type=\"hinge\" axis=\"1 0 0\"/>"
+          "<geom type=\"capsule\" fromto=\"0 0 0 0 -0.1 -0.05\" size=\"0.03\"" +
+          m +
+          "/></body>"
+          "</worldbody></mujoco>",
       "small_world");
 }
 
