@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "taskmatrix/mujoco/body_kinematics.h"
+#include "taskmatrix/mujoco/validity_checker.h"
 
 namespace taskmatrix::mujoco {
 namespace {
@@ -26,18 +26,18 @@ void make_frame(mjtNum frame[9]) {
   mju_cross(frame + 6, frame, frame + 3);
 }
 
-// Signed distance of geom g2's centre from plane g1.
-mjtNum plane_distance(const mjData* d, int plane, int g) {
+// Signed height of `point` over plane geom `plane` (along its normal, the geom's z axis).
+mjtNum height_above_plane(const mjData* d, int plane, const mjtNum* point) {
   const mjtNum* mat = d->geom_xmat + 9 * plane;
   const mjtNum normal[3] = {mat[2], mat[5], mat[8]};
   mjtNum dif[3];
-  mju_sub3(dif, d->geom_xpos + 3 * g, d->geom_xpos + 3 * plane);
+  mju_sub3(dif, point, d->geom_xpos + 3 * plane);
   return mju_dot3(dif, normal);
 }
 
-}  // namespace
-
-bool PhysicsContacts::always_rejected(const mjModel* m, int g1, int g2) const {
+// Pairs MuJoCo's filter rejects whatever the state: one weld body, weld parent and child, an
+// excluded body pair.
+bool always_rejected(const mjModel* m, int g1, int g2) {
   const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
   const int w1 = m->body_weldid[b1], w2 = m->body_weldid[b2];
   if (w1 == w2) return true;
@@ -53,6 +53,8 @@ bool PhysicsContacts::always_rejected(const mjModel* m, int g1, int g2) const {
   }
   return false;
 }
+
+}  // namespace
 
 PhysicsContacts::PhysicsContacts(const mjModel* m) {
   usable_ = m->npair == 0 && m->opt.collision == mjCOL_ALL;
@@ -120,40 +122,27 @@ void PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) co
   const int g1 = m->geom_type[lo] <= m->geom_type[hi] ? lo : hi;
   const int g2 = g1 == lo ? hi : lo;
   const int type1 = m->geom_type[g1], type2 = m->geom_type[g2];
-  const mjfCollision narrow = mjCOLLISIONFUNC[type1][type2];
-  if (!narrow) return;
-  if (!(m->geom_contype[g1] & m->geom_conaffinity[g2]) &&
-      !(m->geom_contype[g2] & m->geom_conaffinity[g1])) {
-    return;
-  }
-  // Margin, gap and contact dimension as mj_collideGeoms sets them for a dynamic pair.
-  mjtNum margin = std::max(m->geom_margin[g1], m->geom_margin[g2]);
+  // Margin, gap and contact dimension as mj_collideGeoms sets them for a dynamic pair (no
+  // override here: collide() hands that to MuJoCo).
+  const mjtNum margin = std::max(m->geom_margin[g1], m->geom_margin[g2]);
   const mjtNum gap = std::max(m->geom_gap[g1], m->geom_gap[g2]);
   const bool prioritised = m->geom_priority[g1] != m->geom_priority[g2];
   const int gp = m->geom_priority[g1] > m->geom_priority[g2] ? g1 : g2;
   const int condim =
       prioritised ? m->geom_condim[gp] : std::max(m->geom_condim[g1], m->geom_condim[g2]);
-  if (m->opt.enableflags & mjENBL_OVERRIDE) margin = m->opt.o_margin;
+  // MuJoCo's plane test; then the validity checker's pair test: collision bits, bounding
+  // spheres, a box against the other geom's sphere (the test MuJoCo does not make), the narrow
+  // phase.
   const mjtNum r1 = m->geom_rbound[g1], r2 = m->geom_rbound[g2];
-  if (r1 > 0 && r2 > 0 &&
-      mju_dist3(d->geom_xpos + 3 * g1, d->geom_xpos + 3 * g2) > r1 + r2 + margin) {
+  if (type1 == mjGEOM_PLANE && r2 > 0 &&
+      height_above_plane(d, g1, d->geom_xpos + 3 * g2) > margin + r2)
     return;
-  }
-  if (type1 == mjGEOM_PLANE && r2 > 0 && plane_distance(d, g1, g2) > margin + r2) return;
-  if (type2 == mjGEOM_PLANE && r1 > 0 && plane_distance(d, g2, g1) > margin + r1) return;
-  // The box test MuJoCo does not make: the other geom's bounding sphere clear of the box.
-  if (r1 > 0 && r2 > 0) {
-    if (type1 == mjGEOM_BOX && sphere_clear_of_box(m, d, g1, d->geom_xpos + 3 * g2, r2 + margin)) {
-      return;
-    }
-    if (type2 == mjGEOM_BOX && sphere_clear_of_box(m, d, g2, d->geom_xpos + 3 * g1, r1 + margin)) {
-      return;
-    }
-  }
+  if (type2 == mjGEOM_PLANE && r1 > 0 &&
+      height_above_plane(d, g2, d->geom_xpos + 3 * g1) > margin + r1)
+    return;
   mjContact con[mjMAXCONPAIR];
-  int num = narrow(m, d, con, g1, g2, margin);
+  int num = collide_geoms(m, d, GeomPair{g1, g2, margin}, margin, con);
   if (num <= 0) return;
-  if (num > mjMAXCONPAIR) mju_error("Too many contacts returned by collision function");
   if (type1 == mjGEOM_BOX && type2 == mjGEOM_BOX) {  // repeated points of box-box
     for (int i = 0; i < num; ++i) con[i].dim = 0;
     for (int i = 0; i < num - 1; ++i) {
@@ -208,7 +197,6 @@ void PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) co
   friction[1] = friction[0];
   friction[3] = friction[4];
   for (mjtNum& f : friction) f = std::max(mjMINMU, f);
-  const bool override = m->opt.enableflags & mjENBL_OVERRIDE;
   for (int i = 0; i < num; ++i) {
     mjContact& c = con[i];
     c.dim = condim;
@@ -216,8 +204,8 @@ void PhysicsContacts::collide_pair(const mjModel* m, mjData* d, int a, int b) co
     c.geom2 = g2;
     c.includemargin = margin - gap;
     mju_copy(c.friction, friction, 5);
-    mju_copy(c.solref, override ? m->opt.o_solref : solref, mjNREF);
-    mju_copy(c.solimp, override ? m->opt.o_solimp : solimp, mjNIMP);
+    mju_copy(c.solref, solref, mjNREF);
+    mju_copy(c.solimp, solimp, mjNIMP);
     c.exclude = c.dist < c.includemargin ? 0 : 1;
     make_frame(c.frame);
     c.efc_address = -1;
@@ -288,11 +276,7 @@ void PhysicsContacts::find(const mjModel* m, mjData* d) const {
       if (m->geom_rbound[s] > 0) {
         if (apart(c, r, d->geom_xpos + 3 * s, m->geom_rbound[s] + margin)) continue;
       } else if (m->geom_type[s] == mjGEOM_PLANE && std::isfinite(r)) {
-        const double* mat = d->geom_xmat + 9 * s;
-        const double* at = d->geom_xpos + 3 * s;
-        const double height =
-            (c[0] - at[0]) * mat[2] + (c[1] - at[1]) * mat[5] + (c[2] - at[2]) * mat[8];
-        if (height > r + margin) continue;
+        if (height_above_plane(d, s, c) > r + margin) continue;
       }
       for (const int i : bodies_[b].geoms) {
         if (!with_static_[static_cast<size_t>(i)][static_cast<size_t>(j)]) continue;

@@ -14,9 +14,11 @@
 // bits as they are now (pruning and holds change them), the pair's margin, gap and contact
 // dimension, the bounding spheres, a plane against the other geom's sphere, then one more
 // rejection MuJoCo lacks: the other geom's bounding sphere wholly outside a box's oriented box
-// (a table top's bounding sphere reaches far past it). A pair that passes goes to MuJoCo's
-// narrow-phase function, and its contacts get friction, solref and solimp as mj_collideGeoms
-// gives them (priority or mix), repeated box-box points dropped, the contact frame completed.
+// (a table top's bounding sphere reaches far past it); all but the plane test are the
+// validity checker's pair test (collide_geoms, validity_checker.h). A pair that passes goes to
+// MuJoCo's narrow-phase function, and its contacts get friction, solref and solimp as
+// mj_collideGeoms gives them (priority or mix), repeated box-box points dropped, the contact frame
+// completed.
 //
 // The same contacts as mj_collision (a test compares them field for field on both robots'
 // states along a motion over the table, objects resting, and against the counter), listed in
@@ -72,7 +74,6 @@ class PhysicsContacts {
   void find(const mjModel* m, mjData* d) const;
   // Tests one pair and adds its contacts (as far as the contact array holds them).
   void collide_pair(const mjModel* m, mjData* d, int a, int b) const;
-  bool always_rejected(const mjModel* m, int g1, int g2) const;
 
   bool usable_ = false;
   std::vector<Pair> moving_pairs_;  // two geoms of moving bodies, grouped by body pair
