@@ -671,7 +671,9 @@ std::vector<std::vector<double>> ArmMotion::stance_candidates(
 std::optional<core::Failure> ArmMotion::go_to_stance(core::ProgramContext& ctx,
                                                      const std::vector<std::string>& body, size_t k,
                                                      const std::vector<double>& solution) {
-  // The base alone when the arm can stay as it is at the new stance; else the whole body.
+  // The base alone when the arm can stay as it is at the new stance; else, or when the base
+  // alone finds no way there (what the hand holds hangs over what the base must pass), the
+  // whole body.
   core::Skillset& skills = ctx.skills();
   const size_t nb = skills.chain("base").joints.size();
   std::vector<double> stance_now = skills.configuration(body);
@@ -679,12 +681,18 @@ std::optional<core::Failure> ArmMotion::go_to_stance(core::ProgramContext& ctx,
   if (skills.is_valid(body, stance_now)) {
     const std::vector<double> stance(solution.begin(), solution.begin() + static_cast<long>(nb));
     std::optional<core::Failure> moved = motion_.plan_now(ctx, {"base"}, stance);
-    if (moved) return moved;
-    phase_ = Phase::kStepping;
-    stance_target_ = static_cast<int>(k);
-    stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
-    stance_body_ = body;
-    return std::nullopt;
+    if (!moved) {
+      phase_ = Phase::kStepping;
+      stance_target_ = static_cast<int>(k);
+      stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
+      stance_body_ = body;
+      return std::nullopt;
+    }
+    if (moved->code != core::FailureCode::kPlanningTimeout &&
+        moved->code != core::FailureCode::kApproximateSolution &&
+        moved->code != core::FailureCode::kPlanningFailed) {
+      return moved;
+    }
   }
   std::optional<core::Failure> moved = motion_.plan_now(ctx, body, solution);
   if (!moved) reached_ = static_cast<int>(k);
