@@ -672,8 +672,8 @@ std::optional<core::Failure> ArmMotion::go_to_stance(core::ProgramContext& ctx,
                                                      const std::vector<std::string>& body, size_t k,
                                                      const std::vector<double>& solution) {
   // The base alone when the arm can stay as it is at the new stance; else, or when the base
-  // alone finds no way there (what the hand holds hangs over what the base must pass), the
-  // whole body.
+  // alone finds no way there (the arm, or what its hand holds, over something the base must
+  // pass), the whole body.
   core::Skillset& skills = ctx.skills();
   const size_t nb = skills.chain("base").joints.size();
   std::vector<double> stance_now = skills.configuration(body);

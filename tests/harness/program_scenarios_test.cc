@@ -534,10 +534,10 @@ TEST(PositionOnMinibot, AStanceFromWhichTheArmsPlanFailsIsLeftForAnother) {
 }
 
 // minibot fetches the vacuum for position (the generalization suite's kitchen, layout 109):
-// the stance search found a stance the arm could keep its posture at and planned the base
-// alone there, with the hand reaching over the table; three stances in turn, the base alone
-// found no way (`planning_timeout`) and the set-up's pickup failed. When the base alone finds
-// no way to a stance, the whole body is planned there.
+// the stance search found whole-body solutions at stances the arm could keep its posture at
+// and planned the base alone there; for three stances in turn the base alone found no way
+// (`planning_timeout`) and the set-up's pickup failed. When the base alone finds no way to a
+// stance, the whole body is planned there.
 TEST(PositionOnMinibot, WhenTheBaseAloneFindsNoWayToAStanceTheWholeBodyGoes) {
   const TrialResult r = expect_success("position", "minibot", "kitchen", 109, 10);
   const std::vector<core::PlanCallRecord>& plans = r.work.plans;
