@@ -127,7 +127,11 @@ std::string side_of(const std::vector<std::string>& chains) {
 // What the task programs use of the profile by name (kRequiredPostures, kRequiredCanned).
 void validate_program_needs(const RobotProfile& p, const std::string& file) {
   const Posture& rest = p.postures.at("rest");
-  for (std::string_view chain : kRequiredChains) {
+  std::vector<std::string_view> chains(kRequiredChains.begin(), kRequiredChains.end());
+  for (std::string_view chain : kOptionalChains) {
+    if (p.find_chain(chain)) chains.push_back(chain);
+  }
+  for (std::string_view chain : chains) {
     if (chain == "base" || rest.count(std::string(chain))) continue;
     throw InputError(file, "postures.rest",
                      "must name chain '" + std::string(chain) +

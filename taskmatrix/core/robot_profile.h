@@ -98,8 +98,11 @@ std::string mirror_chain(std::string_view chain);
 // The chain kind mirror signs are keyed by: "left_arm" -> "arm"; "" for a chain with no side.
 std::string chain_kind(std::string_view chain);
 
-inline constexpr std::array<std::string_view, 7> kRequiredChains = {
-    "base", "torso", "head", "left_arm", "right_arm", "left_hand", "right_hand"};
+inline constexpr std::array<std::string_view, 6> kRequiredChains = {
+    "base", "head", "left_arm", "right_arm", "left_hand", "right_hand"};
+// Chains the programs use when a robot has them: a robot with a rigid torso has no `torso`
+// chain, and reach and position then go from the arm straight to a stance.
+inline constexpr std::array<std::string_view, 1> kOptionalChains = {"torso"};
 // What the twelve task programs take from a profile by name (models/README.md, "What the
 // programs need"): `rest` (every chain but the base; the start posture, release opens the
 // hand to it, greet lowers the arms to it), `fist` (both hands; grasp closes towards it),

@@ -419,7 +419,7 @@ std::vector<RobotFinding> check_mirror(const Scene& scene) {
     if (!inside) continue;
     ++samples;
     probe.reset(true);
-    probe.set("torso", clamped_zeros(scene.chain("torso")));
+    if (scene.robot().find_chain("torso")) probe.set("torso", clamped_zeros(scene.chain("torso")));
     probe.set("left_arm", ql);
     probe.set("right_arm", qr);
     probe.kinematics();
@@ -461,7 +461,7 @@ std::vector<RobotFinding> check_mirror(const Scene& scene) {
     fist_mirror.push_back(hand_signs[i] * fist.at("left_hand")[i]);
   }
   probe.reset(true);
-  probe.set("torso", clamped_zeros(scene.chain("torso")));
+  if (scene.robot().find_chain("torso")) probe.set("torso", clamped_zeros(scene.chain("torso")));
   probe.set("left_arm", rest_left);
   probe.set("right_arm", rest_mirror);
   probe.set("left_hand", fist.at("left_hand"));
@@ -570,19 +570,20 @@ std::vector<RobotFinding> check_reach_envelope(
   }
 
   std::mt19937_64 rng(20261202);
-  const ChainIndex& torso = scene.chain("torso");
+  // A robot with a rigid torso has no torso chain: its arms alone reach.
+  const ChainIndex* torso = scene.robot().find_chain("torso") ? &scene.chain("torso") : nullptr;
   for (const core::HandSpec& hand : scene.robot().hands) {
     const ChainIndex& arm = scene.chain(hand.side + "_arm");
     for (int n = 0; n < 4000; ++n) {
       std::vector<double> qa, qt;
       for (size_t i = 0; i < arm.lower.size(); ++i)
         qa.push_back(uniform(rng, arm.lower[i], arm.upper[i]));
-      for (size_t i = 0; i < torso.lower.size(); ++i) {
-        qt.push_back(uniform(rng, torso.lower[i], torso.upper[i]));
+      for (size_t i = 0; torso && i < torso->lower.size(); ++i) {
+        qt.push_back(uniform(rng, torso->lower[i], torso->upper[i]));
       }
       probe.reset(true);
       probe.set(hand.side + "_arm", qa);
-      probe.set("torso", qt);
+      if (torso) probe.set("torso", qt);
       probe.kinematics();
       const Vec3 p = probe.position(hand.palm);
       if (std::abs(p.y()) > 0.35) continue;

@@ -750,7 +750,7 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
 
 std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::string& arm,
                                    bool& torso, bool& base) {
-  torso = torso && !ctx.busy("torso");
+  torso = torso && ctx.skills.profile().find_chain("torso") != nullptr && !ctx.busy("torso");
   base = base && !ctx.busy("base");
   std::vector<std::string> chains;
   if (base) chains.push_back("base");

@@ -249,7 +249,8 @@ class ArmMotion {
   std::string best_miss_tag_;
 };
 
-// The chains an arm program claims: the arm, and the torso and base when allowed and free.
+// The chains an arm program claims: the arm, and the torso (a robot may have none) and base
+// when allowed and free.
 std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::string& arm,
                                    bool& torso, bool& base);
 

@@ -137,6 +137,37 @@ TEST(CheckRobot, QuickRunPrintsAProgramTableAndExitsFourOnAFailure) {
   EXPECT_EQ(trials.find(".kitchen."), std::string::npos) << trials;
 }
 
+// A robot with a rigid torso (many small humanoids have no waist joint) has no `torso` chain:
+// it loads, passes the lint, and reach goes from its arm straight to a stance.
+TEST(CheckRobot, ARobotWithoutATorsoChainPassesTheLintAndPicksUpTheCup) {
+  ScratchRoot root;
+  copy_minibot(root, "rigid");
+  const std::string profile = "models/robots/rigid/profile.yaml";
+  const std::string model = "models/robots/rigid/minibot.xml";
+  root.replace(profile, "  torso:      {joints: [TorsoPitch]}\n", "");
+  root.replace(profile, "    torso:      [0]\n", "");
+  root.replace(profile, "  torso:      {velocity: 0.8, acceleration: 2}\n", "");
+  root.replace(profile, "  bow:\n    chains: [torso]\n", "  bow:\n    chains: [head]\n");
+  root.replace(profile, "  torso:      800\n", "");
+  root.replace(model, R"(<joint name="TorsoPitch" type="hinge" axis="0 1 0" range="-0.2 0.6" damping="50"/>)",
+               "");
+  root.replace(model, R"(<position name="TorsoPitch" joint="TorsoPitch" kp="800" ctrlrange="-0.2 0.6"/>)",
+               "");
+  ASSERT_EQ(root.read(profile).find("torso:"), std::string::npos) << root.read(profile);
+  std::filesystem::create_directories(root.path() / "scenarios" / "suites");
+  std::filesystem::create_directories(root.path() / "scenarios" / "programs");
+  root.write("scenarios/programs/pickup.yaml",
+             "program: pickup\nparams: {object: cup}\nrobots: [rigid]\n"
+             "environments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\nseed: 1\n"
+             "time_limit_s: 40\nsuccess: grasping(cup)\n");
+  root.write("scenarios/suites/default.yaml",
+             "suite: default\nscenarios: [../programs/pickup.yaml]\n");
+  const CommandResult r = run_cli("check-robot rigid --env kitchen --jobs 1", root.path());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| pickup | success |"), std::string::npos) << r.out;
+}
+
 TEST(CheckRobot, UnknownNamesAreBadInput) {
   CommandResult r = run_cli("check-robot nobody --no-run", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(r.exit_code, 2) << r.err;
