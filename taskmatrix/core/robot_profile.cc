@@ -214,7 +214,9 @@ void validate_profile_structure(const RobotProfile& p) {
   }
   if (p.find_chain("base")->joints.size() != 3) {
     throw InputError(file, "chains.base.joints",
-                     "the base chain must have exactly three joints (x, y, yaw)");
+                     "the base chain must have exactly three joints: a slide along x, a slide "
+                     "along y and a hinge about z (a floating base's free joint is none of "
+                     "them; models/README.md, 'A robot')");
   }
   for (std::string_view required : kRequiredPostures) {
     if (!p.postures.count(std::string(required))) {

@@ -152,6 +152,14 @@ void Scene::index_and_validate() {
     for (const std::string& name : spec.joints) {
       const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
       if (j < 0) throw InputError(pfile, key, "joint '" + name + "' is not in " + mfile);
+      if (m->jnt_type[j] == mjJNT_FREE) {
+        throw InputError(pfile, key,
+                         "joint '" + name +
+                             "' is a free joint (a floating base): the harness moves a robot on "
+                             "a planar base; replace it in " + mfile +
+                             " with a slide joint along x, a slide joint along y and a hinge "
+                             "about z (models/README.md, 'A robot')");
+      }
       if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) {
         throw InputError(pfile, key, "joint '" + name + "' must be a hinge or slide joint");
       }

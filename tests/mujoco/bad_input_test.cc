@@ -74,6 +74,27 @@ std::vector<BadInputCase> cases() {
                    "<joint name=\"LElbowRoll\" type=\"continuous\">");
        },
        {"minibot.urdf", "joint[LElbowRoll]"}},
+      // A model taken with its floating base: the free joint named as the base chain.
+      {"ProfileFloatingBase",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kProfile, "base:       {joints: [BaseX, BaseY, BaseYaw]}",
+                   "base:       {joints: [Root]}");
+       },
+       {"profile.yaml", "chains.base.joints", "free joint", "a slide along x"}},
+      {"MjcfFreeJointInAChain",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kMjcf, R"(<joint name="BaseX" type="slide" axis="1 0 0" range="-5 5" damping="300"/>)",
+                   "");
+         r.replace(kMjcf, R"(<position name="BaseX" joint="BaseX" kp="1000" ctrlrange="-5 5"/>)",
+                   "");
+         r.replace(kMjcf, R"(<body name="BaseRoot" pos="0 0 0">)",
+                   R"(<body name="BaseRoot" pos="0 0 0"><freejoint name="Root"/>)");
+         r.replace(kProfile, "base:       {joints: [BaseX, BaseY, BaseYaw]}",
+                   "base:       {joints: [Root, BaseY, BaseYaw]}");
+       },
+       {"profile.yaml", "chains.base.joints", "joint 'Root' is a free joint", "planar base"}},
       {"ProfileUnknownKey",
        "minibot",
        [](const ScratchRoot& r) { r.write(kProfile, r.read(kProfile) + "colour: red\n"); },
