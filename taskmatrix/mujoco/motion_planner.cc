@@ -175,6 +175,13 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   if (!touch_geoms_.empty()) {
     touching.emplace(scene_, m, d, joints_, attachments_, touch_geoms_, kTouchDepth);
   }
+  // Contacts the planned joints cannot change (the other hand resting against what it set
+  // down) stay as they are along any path: shallow ones are left out of every check, as
+  // execution leaves them out; deeper ones make the start invalid.
+  if (checker.static_collision() && checker.static_depth_m() <= kStaticContactDepth) {
+    checker.accept_static_contacts();
+    if (touching) touching->accept_static_contacts();
+  }
   auto restore = [&] {
     std::copy(saved.begin(), saved.end(), d->qpos);
     mj_kinematics(m, d);

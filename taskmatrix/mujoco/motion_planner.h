@@ -29,6 +29,9 @@ class MotionPlanner {
   MotionPlanner(const Scene& scene, const mjModel* m, mjData* d, std::vector<int> joints,
                 std::vector<Attachment> attachments = {}, std::vector<int> touch_geoms = {});
   static constexpr double kTouchDepth = 0.005;
+  // Contacts the planned joints cannot change, up to this deep, are left as they are (a hand
+  // resting against what it set down while the other arm plans); deeper: invalid_start.
+  static constexpr double kStaticContactDepth = 0.002;
   // The same on a worker's model and data.
   MotionPlanner(const Scene& scene, WorkerScene& worker, std::vector<int> joints);
 

@@ -156,7 +156,8 @@ void Scene::index_and_validate() {
         throw InputError(pfile, key,
                          "joint '" + name +
                              "' is a free joint (a floating base): the harness moves a robot on "
-                             "a planar base; replace it in " + mfile +
+                             "a planar base; replace it in " +
+                             mfile +
                              " with a slide joint along x, a slide joint along y and a hinge "
                              "about z (models/README.md, 'A robot')");
       }

@@ -198,8 +198,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
       const bool floor = m->geom_type[p.g1] == mjGEOM_PLANE || m->geom_type[p.g2] == mjGEOM_PLANE;
       changing_pair_with_world_.push_back(with_world && !floor);
       changing_pair_tolerance_.push_back(touch_tolerance(p));
-    } else if (!static_collision_ && pair_in_contact(p, touch_tolerance(p))) {
-      static_collision_ = true;
+    } else if (pair_in_contact(p, touch_tolerance(p))) {
+      note_static_contact(p);
     }
   }
   for (size_t k = 0; k < attachments_.size(); ++k) {
@@ -221,8 +221,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
             moving[b2] || (object_of[b2] >= 0 && moving[attachments_[object_of[b2]].holder_body]);
         if (object_moves || other_moves) {
           attached_pairs_.push_back({*p, tolerance});
-        } else if (!static_collision_ && pair_in_contact(*p, tolerance)) {
-          static_collision_ = true;
+        } else if (pair_in_contact(*p, tolerance)) {
+          note_static_contact(*p);
         }
       }
     }
@@ -457,6 +457,14 @@ void ValidityChecker::place_attached(const Attachment& a) {
 int ValidityChecker::collide(const GeomPair& p, double margin) {
   return collide_geoms(m_, d_, p, margin, scratch_, &narrow_calls_);
 }
+
+void ValidityChecker::note_static_contact(const GeomPair& p) {
+  static_collision_ = true;
+  const int n = collide(p, p.margin);
+  for (int i = 0; i < n; ++i) static_depth_m_ = std::max(static_depth_m_, -scratch_[i].dist);
+}
+
+void ValidityChecker::accept_static_contacts() { static_collision_ = false; }
 
 bool ValidityChecker::pair_in_contact(const GeomPair& p, double tolerance) {
   const int n = collide(p, p.margin);

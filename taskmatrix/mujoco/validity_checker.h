@@ -81,6 +81,12 @@ class ValidityChecker {
   // True if the pairs that cannot change are already in contact at the bound state: then
   // every configuration is invalid (a start in collision with itself or the world).
   bool static_collision() const { return static_collision_; }
+  // The deepest of those contacts (m; 0 when they only touch).
+  double static_depth_m() const { return static_depth_m_; }
+  // Leaves the pairs that cannot change as they are: configurations are judged by the pairs the
+  // moving joints change (a hand resting against what it set down while the other arm moves;
+  // execution, which checks what the moving chains touch, ignores them too).
+  void accept_static_contacts();
 
   // Sets the moving joints' qpos to `values` (same order as moving_joints), updates the
   // moving bodies and geoms in `d`, and returns true if any robot geom is in contact.
@@ -149,6 +155,8 @@ class ValidityChecker {
   // Number of contacts MuJoCo's narrow phase reports for the pair within `margin`, in scratch_.
   int collide(const GeomPair& p, double margin);
   bool pair_in_contact(const GeomPair& p, double tolerance = 0);
+  // Marks a static collision and keeps the deepest contact of `p` (after pair_in_contact).
+  void note_static_contact(const GeomPair& p);
   double pair_distance(const GeomPair& p, double cap);
 
   const Scene& scene_;
@@ -196,6 +204,7 @@ class ValidityChecker {
   std::vector<size_t> moving_attachments_;    // indices into attachments_
   std::vector<AttachedPair> attached_pairs_;  // pairs that move with moving attachments
   bool static_collision_ = false;
+  double static_depth_m_ = 0;
   std::uint64_t checks_ = 0;
   std::uint64_t narrow_calls_ = 0;
   mjContact scratch_[mjMAXCONPAIR];

@@ -9,7 +9,10 @@
 //   greet    target, side       fixate on the target until it is centred (head and base);
 //                               then, tracking it with the head alone, raise a free arm
 //                               (postural wave_start) and wave (canned wave, while
-//                               in_view(target) holds); tracking stops and the arm is lowered
+//                               in_view(target) holds); tracking stops and the arm is lowered.
+//                               Where the base cannot turn to the target or the arms cannot
+//                               come down to rest, it steps back from the nearest surface
+//                               (retreat) and tries once more (lowering the torso's bend too)
 //   vacuum   tool, surface      Fig. 4: pickup the tool; position its tip over the nearest
 //                               debris while any is known; putdown the tool on the surface
 #include "taskmatrix/core/state_machine.h"
@@ -150,20 +153,41 @@ MachineSpec greet() {
   // The base turns only while finding the target: the arms' plans (up to wave_start, down to
   // rest) assume it stays put, and so does the rest posture they end in.
   m.concurrent = {{"track", "fixate", {{"object", "$target"}, {"base", "false"}}, false}};
+  // Close beside furniture (after a putdown), the base may not turn towards the target, nor
+  // the arms come down to rest: the robot steps back from the nearest surface and tries once
+  // more.
+  const core::RawParams lower = {{"posture", "rest"},
+                                 {"chains", "[left_arm, right_arm, left_hand, right_hand]"},
+                                 {"skip_busy", "true"}};
+  const core::RawParams step_back = {{"part", "base"}, {"distance", "0.25"}};
   m.states = {state("find", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
+              state("make_room", "retreat", step_back),
+              state("find_again", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
               state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
                     "in_view($target)"),
               state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
-              state("lower", "postural",
+              state("lower", "postural", lower), state("make_room_to_lower", "retreat", step_back),
+              // The torso too: one bent by an earlier program (a putdown) puts the arms' rest
+              // into the legs or the furniture.
+              state("lower_again", "postural",
                     {{"posture", "rest"},
-                     {"chains", "[left_arm, right_arm, left_hand, right_hand]"},
+                     {"chains", "[torso, left_arm, right_arm, left_hand, right_hand]"},
                      {"skip_busy", "true"}}),
               final_state("greeted", true)};
   m.initial = "find";
-  m.transitions = {on_completed("find", "raise"), on_completed("raise", "wave"),
-                   on_completed("wave", "lower"), on_completed("lower", "greeted")};
+  m.transitions = {on_completed("find", "raise"),
+                   on_completed("find_again", "raise"),
+                   on_completed("raise", "wave"),
+                   on_completed("wave", "lower"),
+                   on_completed("lower", "greeted"),
+                   on_failed("find", "make_room"),
+                   on_completed("make_room", "find_again"),
+                   on_failed("lower", "make_room_to_lower"),
+                   on_completed("make_room_to_lower", "lower_again"),
+                   on_completed("lower_again", "greeted")};
   m.transitions[0].start = {"track"};
-  m.transitions[2].stop = {"track"};
+  m.transitions[1].start = {"track"};
+  m.transitions[3].stop = {"track"};
   return m;
 }
 

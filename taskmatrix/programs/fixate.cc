@@ -12,9 +12,12 @@
 // control period. Ends when halted, after `duration` seconds if given, or, with
 // `until_centered`, once the object has stayed centred for 0.3 s: within `tolerance`, or, for
 // a head that cannot do better (a neck without pitch), in view with the head at its best
-// configuration and no horizontal error left.
+// configuration and no horizontal error left. With `until_centered`, it fails (`invalid_goal`)
+// when every base turn it asked for has been refused for 2 s (the object will not be centred
+// from where the robot stands), and (`tracking_error`) when it is not centred after 20 s.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
@@ -24,6 +27,10 @@ namespace taskmatrix::programs {
 namespace {
 
 constexpr double kCenteredHold = 0.3;  // s the object must stay centred for until_centered
+// With until_centered: s of refused base turns, the object not centred, before fixate fails.
+constexpr double kBlockedS = 2.0;
+// With until_centered: s after which an object never centred fails fixate.
+constexpr double kSeekLimitS = 20.0;
 // How far (rad, any joint) the head's goal moves before it is checked for collision again.
 constexpr double kGoalRecheckRad = 0.02;
 // How far (m) the head keeps from everything, the robot's own body included.
@@ -130,7 +137,25 @@ class Fixate final : public core::TaskProgram {
         if (skills.is_valid({"base"}, turned)) {
           base_cmd_ = turned;
           skills.command({"base"}, base_cmd_);
+          blocked_since_ = -1;
+        } else if (blocked_since_ < 0) {
+          blocked_since_ = ctx.time();
         }
+      } else {
+        blocked_since_ = -1;
+      }
+      // Waiting to be centred while the base cannot turn (the robot close beside furniture, a
+      // neck that cannot take up the angle): it never will be. A machine can make room and try
+      // again; running on would only meet the scenario's time limit without a reason.
+      if (until_centered_ && blocked_since_ >= 0 &&
+          ctx.time() - blocked_since_ >= kBlockedS - 1e-9) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "the base cannot turn towards '%s' without touching something (%.0f degrees "
+                      "still to turn, refused for %.1f s)",
+                      object_.c_str(), std::abs(residual) * 180 / M_PI, kBlockedS);
+        skills.command({"base"}, skills.clamped_configuration({"base"}));
+        return fail(core::Failure(core::FailureCode::kInvalidGoal, buf));
       }
     }
 
@@ -140,9 +165,17 @@ class Fixate final : public core::TaskProgram {
     } else {
       centered_since_ = -1;
     }
-    const bool done =
-        (until_centered_ && centered_since_ >= 0 && now - centered_since_ >= kCenteredHold - 1e-9) ||
-        (duration_ > 0 && now - start_time_ >= duration_ - 1e-9);
+    best_error_ = std::min(best_error_, error);
+    if (until_centered_ && now - start_time_ >= kSeekLimitS - 1e-9 && centered_since_ < 0) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "'%s' not centred after %.0f s (at best %.2f rad off)",
+                    object_.c_str(), kSeekLimitS, best_error_);
+      if (base_) skills.command({"base"}, skills.clamped_configuration({"base"}));
+      return fail(core::Failure(core::FailureCode::kTrackingError, buf));
+    }
+    const bool done = (until_centered_ && centered_since_ >= 0 &&
+                       now - centered_since_ >= kCenteredHold - 1e-9) ||
+                      (duration_ > 0 && now - start_time_ >= duration_ - 1e-9);
     if (!done) return core::ProgramState::kRunning;
     // The base stops where it is: under physics it lags its command, and a program that plans
     // next (an arm raised beside the table) plans from where it stands.
@@ -190,6 +223,8 @@ class Fixate final : public core::TaskProgram {
   std::vector<double> checked_goal_;
   bool goal_clear_ = false;
   double start_time_ = 0, centered_since_ = -1;
+  double blocked_since_ = -1;     // since when each base turn asked for was refused
+  double best_error_ = INFINITY;  // rad, the nearest the object came to the optical axis
   std::optional<core::Failure> failure_;
 };
 

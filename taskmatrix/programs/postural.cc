@@ -41,7 +41,9 @@ class Postural final : public core::TaskProgram {
 
   void start(core::ProgramContext& ctx) override {
     const ChainValues goal = target(ctx.skills());
-    if (max_difference(ctx.skills().configuration(goal.chains), goal.values) <= kAlreadyThere) {
+    // Nothing to move (the chains named are ones this robot lacks) or already there.
+    if (goal.chains.empty() ||
+        max_difference(ctx.skills().configuration(goal.chains), goal.values) <= kAlreadyThere) {
       done_ = true;
       return;
     }

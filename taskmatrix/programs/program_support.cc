@@ -72,7 +72,16 @@ ChainValues mirrored(const core::Skillset& skills, const ChainValues& v) {
 ChainValues posture_values(const core::Skillset& skills, const std::string& posture,
                            const std::vector<std::string>& only_chains) {
   const core::Posture& p = skills.posture(posture);
+  // A chain a robot may lack (a rigid torso has no chain) is left out when it lacks it; a list
+  // of nothing else asks for nothing.
+  std::vector<std::string> only;
   for (const std::string& c : only_chains) {
+    const bool optional = std::find(core::kOptionalChains.begin(), core::kOptionalChains.end(),
+                                    c) != core::kOptionalChains.end();
+    if (!optional || skills.profile().find_chain(c)) only.push_back(c);
+  }
+  if (!only_chains.empty() && only.empty()) return {};
+  for (const std::string& c : only) {
     skills.chain(c);  // throws for an unknown chain
     if (!p.count(c)) {
       throw std::invalid_argument("posture '" + posture + "' does not name chain '" + c + "'");
@@ -80,8 +89,7 @@ ChainValues posture_values(const core::Skillset& skills, const std::string& post
   }
   ChainValues out;
   for (const auto& [chain, values] : p) {
-    if (!only_chains.empty() &&
-        std::find(only_chains.begin(), only_chains.end(), chain) == only_chains.end()) {
+    if (!only.empty() && std::find(only.begin(), only.end(), chain) == only.end()) {
       continue;
     }
     out.chains.push_back(chain);

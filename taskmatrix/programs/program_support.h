@@ -42,6 +42,8 @@ std::string single_side(const std::vector<std::string>& chains);
 // The same motion on the other limb: limb chains swapped, joint values times the profile's
 // mirror signs. Chains without a side are kept.
 ChainValues mirrored(const core::Skillset& skills, const ChainValues& values);
+// A posture's values for `only_chains` (empty: every chain it names). A chain the robot may
+// lack and does (core::kOptionalChains) is left out, and a list of only such chains gives none.
 ChainValues posture_values(const core::Skillset& skills, const std::string& posture,
                            const std::vector<std::string>& only_chains);
 

@@ -81,7 +81,17 @@ class Retreat final : public core::TaskProgram {
     const core::ChainInfo& chain = skills.chain("base");
     for (size_t i = 0; i < goal.size(); ++i)
       goal[i] = std::clamp(goal[i], chain.lower[i], chain.upper[i]);
+    // What it steps away from, and what a hand rests against (the object it has just set
+    // down), it may brush as it leaves.
     motion_.execution.may_touch = {from->id};
+    for (const char* side : {"left", "right"}) {
+      for (const std::string& touched : touched_by_arm(ctx, side)) {
+        if (std::find(motion_.execution.may_touch.begin(), motion_.execution.may_touch.end(),
+                      touched) == motion_.execution.may_touch.end()) {
+          motion_.execution.may_touch.push_back(touched);
+        }
+      }
+    }
     failure_ = motion_.plan_to_configuration(ctx, {"base"}, goal);
   }
 

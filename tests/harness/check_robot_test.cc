@@ -149,9 +149,11 @@ TEST(CheckRobot, ARobotWithoutATorsoChainPassesTheLintAndPicksUpTheCup) {
   root.replace(profile, "  torso:      {velocity: 0.8, acceleration: 2}\n", "");
   root.replace(profile, "  bow:\n    chains: [torso]\n", "  bow:\n    chains: [head]\n");
   root.replace(profile, "  torso:      800\n", "");
-  root.replace(model, R"(<joint name="TorsoPitch" type="hinge" axis="0 1 0" range="-0.2 0.6" damping="50"/>)",
-               "");
-  root.replace(model, R"(<position name="TorsoPitch" joint="TorsoPitch" kp="800" ctrlrange="-0.2 0.6"/>)",
+  root.replace(
+      model,
+      R"(<joint name="TorsoPitch" type="hinge" axis="0 1 0" range="-0.2 0.6" damping="50"/>)", "");
+  root.replace(model,
+               R"(<position name="TorsoPitch" joint="TorsoPitch" kp="800" ctrlrange="-0.2 0.6"/>)",
                "");
   ASSERT_EQ(root.read(profile).find("torso:"), std::string::npos) << root.read(profile);
   std::filesystem::create_directories(root.path() / "scenarios" / "suites");

@@ -316,6 +316,65 @@ TEST(GreetOnAtlas, TheBaseTurnsOnlyWhereNothingIsSweptIntoTheTable) {
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
 }
 
+// A task the programs were not written for, as a user writes it: carry the cup and the juice
+// box to the side surface, then greet. After the putdown atlas stands against the counter,
+// its torso bent: finding the visitor, every base turn was refused (a hand would sweep into the
+// counter), and fixate waited until the scenario's time limit; the arms' rest was in collision
+// with the torso still bent. Now fixate fails after 2 s of refused turns, greet steps back from
+// the counter and finds the visitor again, and lowering, refused, steps back and brings the
+// torso upright with the arms (kitchen, layout 207).
+TEST(GreetAfterAPutdown, StepsBackWhenTheBaseCannotTurnOrTheArmsCannotComeDown) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  test::ScratchRoot root;
+  root.write("tidy.yaml", R"(doc: tidy onto the side surface, then greet
+machine:
+  name: tidy
+  doc: carry the cup and the juice box to the side surface, then wave at the visitor
+  initial: take_cup
+  states:
+    take_cup: {program: pickup, params: {object: cup}}
+    place_cup: {program: putdown, params: {object: cup, surface: side_surface}}
+    take_box: {program: pickup, params: {object: box}}
+    place_box: {program: putdown, params: {object: box, surface: side_surface}}
+    wave: {program: greet, params: {target: visitor}}
+    done: {final: success}
+  transitions:
+    - {from: take_cup, on: completed, to: place_cup}
+    - {from: place_cup, on: completed, to: take_box}
+    - {from: take_box, on: completed, to: place_box}
+    - {from: place_box, on: completed, to: wave}
+    - {from: wave, on: completed, to: done}
+robots: [atlas]
+environments: [kitchen]
+obstacles: {count: 8}
+objects:
+  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
+  box: {on: work_surface, yaw: [-3.14159, 3.14159]}
+surfaces:
+  work_surface: {height_m: [0.60, 0.80]}
+robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
+layout_seed: 200
+seed: 1
+trials: 8
+visitor: {walk_speed: 0.4}
+time_limit_s: 200
+success: all_of(above(cup, side_surface), above(box, side_surface), in_view(visitor))
+)");
+  const test::CommandResult r = test::run_cli(
+      "run " + (root.path() / "tidy.yaml").string() +
+          " --only tidy.atlas.kitchen.RRTConnect.l207.s8 --jobs 1 --progress off --out " +
+          (root.path() / "run").string(),
+      root.path());
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string trials = root.read("run/trials.jsonl");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+  EXPECT_NE(trials.find("the base cannot turn towards 'visitor'"), std::string::npos)
+      << "not the case described: " << trials.substr(0, 2000);
+  EXPECT_NE(trials.find("\"program\":\"retreat\""), std::string::npos);
+}
+
 // Lifting a held tool off the table before a plan: atlas's arm could not keep the hand's
 // orientation exactly, and the nearest solution tipped the vacuum about the grip, pushing its
 // battery 6 mm into the table, so the next plan started in collision.

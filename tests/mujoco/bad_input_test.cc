@@ -85,7 +85,8 @@ std::vector<BadInputCase> cases() {
       {"MjcfFreeJointInAChain",
        "minibot",
        [](const ScratchRoot& r) {
-         r.replace(kMjcf, R"(<joint name="BaseX" type="slide" axis="1 0 0" range="-5 5" damping="300"/>)",
+         r.replace(kMjcf,
+                   R"(<joint name="BaseX" type="slide" axis="1 0 0" range="-5 5" damping="300"/>)",
                    "");
          r.replace(kMjcf, R"(<position name="BaseX" joint="BaseX" kp="1000" ctrlrange="-5 5"/>)",
                    "");

@@ -202,6 +202,41 @@ TEST_P(PlanOnBothRobots, InvalidStartInvalidGoalAndBadInputAreNamedAsSuch) {
   EXPECT_EQ(r.status, core::PlanStatus::kInvalidStart) << r.message;
 }
 
+// A contact the planned joints cannot change (the other hand resting against what it set
+// down) stays as it is along any path, and execution, which checks what the moving chains
+// touch, ignores it: a shallow one is left out of the plan's checks; a deep one is still an
+// invalid start.
+TEST_P(PlanOnBothRobots, AShallowContactThePlannedJointsCannotChangeIsLeftAsItIs) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  const ChainIndex& arm = scene->chain("left_arm");
+  const std::vector<double> goal = valid_sample(*scene, worker, arm, 5);
+  PlanOptions options;
+  options.time_limit_s = 5;
+  // The base stepped forward until the robot first touches the table, millimetre by millimetre.
+  const int base_x = scene->chain("base").qpos_adr[0];
+  double x = 0;
+  for (; x < 0.6; x += 0.001) {
+    worker.data()->qpos[base_x] = x;
+    mj_kinematics(worker.model(), worker.data());
+    if (raw_robot_in_collision(*scene, worker.model(), worker.data())) break;
+  }
+  ASSERT_LT(x, 0.6) << "the robot never reached the table";
+  {
+    ValidityChecker checker(*scene, worker.model(), worker.data(), arm.joints);
+    ASSERT_TRUE(checker.static_collision());
+    ASSERT_LE(checker.static_depth_m(), MotionPlanner::kStaticContactDepth);
+  }
+  MotionPlanner planner(*scene, worker, arm.joints);
+  const core::PlanResult touching = planner.plan({goal}, options);
+  EXPECT_EQ(touching.status, core::PlanStatus::kExactSolution) << touching.message;
+  // 5 cm further in: the start stays invalid, and says the planned joints cannot move it.
+  worker.data()->qpos[base_x] = x + 0.05;
+  const core::PlanResult deep = planner.plan({goal}, options);
+  EXPECT_EQ(deep.status, core::PlanStatus::kInvalidStart) << deep.message;
+  EXPECT_NE(deep.message.find("cannot move it"), std::string::npos) << deep.message;
+}
+
 TEST_P(PlanOnBothRobots, EveryPlannerByNameSolvesAnOpenArmProblem) {
   auto scene = test::scene(GetParam(), "kitchen");
   WorkerScene worker(scene);
