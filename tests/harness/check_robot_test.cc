@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/test_support.h"
 
@@ -16,6 +19,20 @@ void copy_minibot(const ScratchRoot& root, const std::string& name) {
   const std::filesystem::path dir = root.path() / "models" / "robots" / name;
   std::filesystem::copy(root.path() / "models" / "robots" / "minibot", dir);
   root.replace("models/robots/" + name + "/profile.yaml", "name: minibot", "name: " + name);
+}
+
+// A default suite of program scenarios (file stem, text) in the scratch root: what
+// check-robot's quick run runs.
+void write_default_suite(const ScratchRoot& root,
+                         const std::vector<std::pair<std::string, std::string>>& scenarios) {
+  std::filesystem::create_directories(root.path() / "scenarios" / "suites");
+  std::filesystem::create_directories(root.path() / "scenarios" / "programs");
+  std::string list;
+  for (const auto& [name, text] : scenarios) {
+    root.write("scenarios/programs/" + name + ".yaml", text);
+    list += (list.empty() ? "" : ", ") + std::string("../programs/") + name + ".yaml";
+  }
+  root.write("scenarios/suites/default.yaml", "suite: default\nscenarios: [" + list + "]\n");
 }
 
 TEST(CheckRobot, BuiltInRobotsPassTheLint) {
@@ -109,19 +126,15 @@ INSTANTIATE_TEST_SUITE_P(
 // two-scenario suite in a scratch root, one that succeeds and one that cannot.
 TEST(CheckRobot, QuickRunPrintsAProgramTableAndExitsFourOnAFailure) {
   ScratchRoot root;
-  std::filesystem::create_directories(root.path() / "scenarios" / "suites");
-  std::filesystem::create_directories(root.path() / "scenarios" / "programs");
-  root.write("scenarios/programs/postural.yaml",
-             "program: postural\nparams: {posture: wave_start, side: as_named}\n"
-             "robots: [minibot]\nenvironments: [kitchen]\nobstacles: {count: 2}\n"
-             "time_limit_s: 20\nsuccess: postural(wave_start)\n");
-  root.write("scenarios/programs/unreachable.yaml",
-             "program: reach\nparams: {object: visitor, base: false, torso: false}\n"
-             "robots: [minibot]\nenvironments: [kitchen]\nobstacles: {count: 2}\n"
-             "time_limit_s: 20\n");
-  root.write(
-      "scenarios/suites/default.yaml",
-      "suite: default\nscenarios: [../programs/postural.yaml, ../programs/unreachable.yaml]\n");
+  write_default_suite(root,
+                      {{"postural",
+                        "program: postural\nparams: {posture: wave_start, side: as_named}\n"
+                        "robots: [minibot]\nenvironments: [kitchen]\nobstacles: {count: 2}\n"
+                        "time_limit_s: 20\nsuccess: postural(wave_start)\n"},
+                       {"unreachable",
+                        "program: reach\nparams: {object: visitor, base: false, torso: false}\n"
+                        "robots: [minibot]\nenvironments: [kitchen]\nobstacles: {count: 2}\n"
+                        "time_limit_s: 20\n"}});
   const CommandResult r = run_cli("check-robot minibot --env office --jobs 1", root.path());
   EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
   EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
@@ -156,14 +169,10 @@ TEST(CheckRobot, ARobotWithoutATorsoChainPassesTheLintAndPicksUpTheCup) {
                R"(<position name="TorsoPitch" joint="TorsoPitch" kp="800" ctrlrange="-0.2 0.6"/>)",
                "");
   ASSERT_EQ(root.read(profile).find("torso:"), std::string::npos) << root.read(profile);
-  std::filesystem::create_directories(root.path() / "scenarios" / "suites");
-  std::filesystem::create_directories(root.path() / "scenarios" / "programs");
-  root.write("scenarios/programs/pickup.yaml",
-             "program: pickup\nparams: {object: cup}\nrobots: [rigid]\n"
-             "environments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\nseed: 1\n"
-             "time_limit_s: 40\nsuccess: grasping(cup)\n");
-  root.write("scenarios/suites/default.yaml",
-             "suite: default\nscenarios: [../programs/pickup.yaml]\n");
+  write_default_suite(root, {{"pickup",
+                              "program: pickup\nparams: {object: cup}\nrobots: [rigid]\n"
+                              "environments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\n"
+                              "seed: 1\ntime_limit_s: 40\nsuccess: grasping(cup)\n"}});
   const CommandResult r = run_cli("check-robot rigid --env kitchen --jobs 1", root.path());
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
