@@ -177,6 +177,11 @@ std::vector<double> clamped_zeros(const ChainIndex& c) {
 
 const std::vector<std::string> kLimbChains = {"left_arm", "right_arm", "left_hand", "right_hand"};
 
+// The torso chain, or null for a robot with a rigid torso (the chain is optional).
+const ChainIndex* torso_of(const Scene& scene) {
+  return scene.robot().find_chain("torso") ? &scene.chain("torso") : nullptr;
+}
+
 RobotFinding check_chains(const Scene& scene) {
   const core::RobotProfile& robot = scene.robot();
   std::string dofs;
@@ -398,6 +403,7 @@ std::vector<RobotFinding> check_mirror(const Scene& scene) {
   const core::RobotProfile& robot = scene.robot();
   const ChainIndex& left = scene.chain("left_arm");
   const ChainIndex& right = scene.chain("right_arm");
+  const ChainIndex* torso = torso_of(scene);
   const std::vector<double>& signs = robot.mirror_signs.at("arm");
   const core::HandSpec* lh = robot.find_hand("left");
   const core::HandSpec* rh = robot.find_hand("right");
@@ -419,7 +425,7 @@ std::vector<RobotFinding> check_mirror(const Scene& scene) {
     if (!inside) continue;
     ++samples;
     probe.reset(true);
-    if (scene.robot().find_chain("torso")) probe.set("torso", clamped_zeros(scene.chain("torso")));
+    if (torso) probe.set("torso", clamped_zeros(*torso));
     probe.set("left_arm", ql);
     probe.set("right_arm", qr);
     probe.kinematics();
@@ -461,7 +467,7 @@ std::vector<RobotFinding> check_mirror(const Scene& scene) {
     fist_mirror.push_back(hand_signs[i] * fist.at("left_hand")[i]);
   }
   probe.reset(true);
-  if (scene.robot().find_chain("torso")) probe.set("torso", clamped_zeros(scene.chain("torso")));
+  if (torso) probe.set("torso", clamped_zeros(*torso));
   probe.set("left_arm", rest_left);
   probe.set("right_arm", rest_mirror);
   probe.set("left_hand", fist.at("left_hand"));
@@ -570,8 +576,7 @@ std::vector<RobotFinding> check_reach_envelope(
   }
 
   std::mt19937_64 rng(20261202);
-  // A robot with a rigid torso has no torso chain: its arms alone reach.
-  const ChainIndex* torso = scene.robot().find_chain("torso") ? &scene.chain("torso") : nullptr;
+  const ChainIndex* torso = torso_of(scene);
   for (const core::HandSpec& hand : scene.robot().hands) {
     const ChainIndex& arm = scene.chain(hand.side + "_arm");
     for (int n = 0; n < 4000; ++n) {

@@ -198,8 +198,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
       const bool floor = m->geom_type[p.g1] == mjGEOM_PLANE || m->geom_type[p.g2] == mjGEOM_PLANE;
       changing_pair_with_world_.push_back(with_world && !floor);
       changing_pair_tolerance_.push_back(touch_tolerance(p));
-    } else if (pair_in_contact(p, touch_tolerance(p))) {
-      note_static_contact(p);
+    } else {
+      note_static_contact(p, touch_tolerance(p));
     }
   }
   for (size_t k = 0; k < attachments_.size(); ++k) {
@@ -221,8 +221,8 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
             moving[b2] || (object_of[b2] >= 0 && moving[attachments_[object_of[b2]].holder_body]);
         if (object_moves || other_moves) {
           attached_pairs_.push_back({*p, tolerance});
-        } else if (pair_in_contact(*p, tolerance)) {
-          note_static_contact(*p);
+        } else {
+          note_static_contact(*p, tolerance);
         }
       }
     }
@@ -458,10 +458,14 @@ int ValidityChecker::collide(const GeomPair& p, double margin) {
   return collide_geoms(m_, d_, p, margin, scratch_, &narrow_calls_);
 }
 
-void ValidityChecker::note_static_contact(const GeomPair& p) {
-  static_collision_ = true;
+void ValidityChecker::note_static_contact(const GeomPair& p, double tolerance) {
+  // In contact as pair_in_contact judges it, keeping the deepest penetration.
   const int n = collide(p, p.margin);
-  for (int i = 0; i < n; ++i) static_depth_m_ = std::max(static_depth_m_, -scratch_[i].dist);
+  for (int i = 0; i < n; ++i) {
+    if (tolerance > 0 && scratch_[i].dist >= -tolerance) continue;
+    static_collision_ = true;
+    static_depth_m_ = std::max(static_depth_m_, -scratch_[i].dist);
+  }
 }
 
 void ValidityChecker::accept_static_contacts() { static_collision_ = false; }

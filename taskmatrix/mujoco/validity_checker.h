@@ -155,8 +155,9 @@ class ValidityChecker {
   // Number of contacts MuJoCo's narrow phase reports for the pair within `margin`, in scratch_.
   int collide(const GeomPair& p, double margin);
   bool pair_in_contact(const GeomPair& p, double tolerance = 0);
-  // Marks a static collision and keeps the deepest contact of `p` (after pair_in_contact).
-  void note_static_contact(const GeomPair& p);
+  // For a pair the moving joints cannot change: if it is in contact (as pair_in_contact with
+  // `tolerance` judges), marks a static collision and keeps its deepest penetration.
+  void note_static_contact(const GeomPair& p, double tolerance);
   double pair_distance(const GeomPair& p, double cap);
 
   const Scene& scene_;

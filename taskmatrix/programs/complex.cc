@@ -156,23 +156,24 @@ MachineSpec greet() {
   // Close beside furniture (after a putdown), the base may not turn towards the target, nor
   // the arms come down to rest: the robot steps back from the nearest surface and tries once
   // more.
-  const core::RawParams lower = {{"posture", "rest"},
-                                 {"chains", "[left_arm, right_arm, left_hand, right_hand]"},
-                                 {"skip_busy", "true"}};
+  const std::string limbs = "left_arm, right_arm, left_hand, right_hand";
+  const core::RawParams lower = {
+      {"posture", "rest"}, {"chains", "[" + limbs + "]"}, {"skip_busy", "true"}};
+  // The second time with the torso: one bent by an earlier program (a putdown) puts the arms'
+  // rest into the legs or the furniture.
+  const core::RawParams lower_with_torso = {
+      {"posture", "rest"}, {"chains", "[torso, " + limbs + "]"}, {"skip_busy", "true"}};
   const core::RawParams step_back = {{"part", "base"}, {"distance", "0.25"}};
-  m.states = {state("find", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
+  const core::RawParams find = {{"object", "$target"}, {"until_centered", "true"}};
+  m.states = {state("find", "fixate", find),
               state("make_room", "retreat", step_back),
-              state("find_again", "fixate", {{"object", "$target"}, {"until_centered", "true"}}),
+              state("find_again", "fixate", find),
               state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
                     "in_view($target)"),
               state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
-              state("lower", "postural", lower), state("make_room_to_lower", "retreat", step_back),
-              // The torso too: one bent by an earlier program (a putdown) puts the arms' rest
-              // into the legs or the furniture.
-              state("lower_again", "postural",
-                    {{"posture", "rest"},
-                     {"chains", "[torso, left_arm, right_arm, left_hand, right_hand]"},
-                     {"skip_busy", "true"}}),
+              state("lower", "postural", lower),
+              state("make_room_to_lower", "retreat", step_back),
+              state("lower_again", "postural", lower_with_torso),
               final_state("greeted", true)};
   m.initial = "find";
   m.transitions = {on_completed("find", "raise"),

@@ -154,7 +154,7 @@ class Fixate final : public core::TaskProgram {
                       "the base cannot turn towards '%s' without touching something (%.0f degrees "
                       "still to turn, refused for %.1f s)",
                       object_.c_str(), std::abs(residual) * 180 / M_PI, kBlockedS);
-        skills.command({"base"}, skills.clamped_configuration({"base"}));
+        stop_base(skills);
         return fail(core::Failure(core::FailureCode::kInvalidGoal, buf));
       }
     }
@@ -170,20 +170,24 @@ class Fixate final : public core::TaskProgram {
       char buf[200];
       std::snprintf(buf, sizeof buf, "'%s' not centred after %.0f s (at best %.2f rad off)",
                     object_.c_str(), kSeekLimitS, best_error_);
-      if (base_) skills.command({"base"}, skills.clamped_configuration({"base"}));
+      stop_base(skills);
       return fail(core::Failure(core::FailureCode::kTrackingError, buf));
     }
     const bool done = (until_centered_ && centered_since_ >= 0 &&
                        now - centered_since_ >= kCenteredHold - 1e-9) ||
                       (duration_ > 0 && now - start_time_ >= duration_ - 1e-9);
     if (!done) return core::ProgramState::kRunning;
-    // The base stops where it is: under physics it lags its command, and a program that plans
-    // next (an arm raised beside the table) plans from where it stands.
-    if (base_) skills.command({"base"}, skills.clamped_configuration({"base"}));
+    stop_base(skills);
     return core::ProgramState::kCompleted;
   }
 
  private:
+  // The base, if fixate turns it, stops where it is: under physics it lags its command, and a
+  // program that plans next (an arm raised beside the table) plans from where it stands.
+  void stop_base(core::Skillset& skills) const {
+    if (base_) skills.command({"base"}, skills.clamped_configuration({"base"}));
+  }
+
   // Head joints that point the camera at `target`, from the current goal: a few damped
   // Gauss-Newton steps on the view angles, within joint limits.
   std::vector<double> look_at(core::Skillset& skills, const core::ChainInfo& head,

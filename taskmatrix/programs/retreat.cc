@@ -84,14 +84,7 @@ class Retreat final : public core::TaskProgram {
     // What it steps away from, and what a hand rests against (the object it has just set
     // down), it may brush as it leaves.
     motion_.execution.may_touch = {from->id};
-    for (const char* side : {"left", "right"}) {
-      for (const std::string& touched : touched_by_arm(ctx, side)) {
-        if (std::find(motion_.execution.may_touch.begin(), motion_.execution.may_touch.end(),
-                      touched) == motion_.execution.may_touch.end()) {
-          motion_.execution.may_touch.push_back(touched);
-        }
-      }
-    }
+    for (const char* side : {"left", "right"}) motion_.allow_touching(touched_by_arm(ctx, side));
     failure_ = motion_.plan_to_configuration(ctx, {"base"}, goal);
   }
 
