@@ -98,11 +98,13 @@ std::string mirror_chain(std::string_view chain);
 // The chain kind mirror signs are keyed by: "left_arm" -> "arm"; "" for a chain with no side.
 std::string chain_kind(std::string_view chain);
 
-inline constexpr std::array<std::string_view, 6> kRequiredChains = {
-    "base", "head", "left_arm", "right_arm", "left_hand", "right_hand"};
+inline constexpr std::array<std::string_view, 5> kRequiredChains = {"base", "left_arm", "right_arm",
+                                                                    "left_hand", "right_hand"};
 // Chains the programs use when a robot has them: a robot with a rigid torso has no `torso`
-// chain, and reach and position then go from the arm straight to a stance.
-inline constexpr std::array<std::string_view, 1> kOptionalChains = {"torso"};
+// chain, and reach and position then go from the arm straight to a stance; a robot whose
+// head camera is fixed has no `head` chain, and fixate and explore aim the camera with the
+// base's yaw alone.
+inline constexpr std::array<std::string_view, 2> kOptionalChains = {"torso", "head"};
 // What the twelve task programs take from a profile by name (models/README.md, "What the
 // programs need"): `rest` (every chain but the base; the start posture, release opens the
 // hand to it, greet lowers the arms to it), `fist` (both hands; grasp closes towards it),

@@ -52,6 +52,12 @@ const char* to_string(ExecutionStatus status) {
   return "unknown";
 }
 
+double Skillset::palm_depth(const std::string& side) const {
+  const HandSpec* hand = profile().find_hand(side);
+  if (!hand) throw std::invalid_argument("robot " + profile().name + " has no " + side + " hand");
+  return do_palm_depth(*hand);
+}
+
 const ChainInfo& Skillset::chain(std::string_view name) const {
   for (const ChainInfo& c : chains()) {
     if (c.name == name) return c;

@@ -196,6 +196,12 @@ class Skillset {
   ExecutionReport execute(const std::vector<std::string>& chain_names, const Trajectory& trajectory,
                           const ExecutionOptions& options = {});
 
+  // How far (m) behind a hand's palm frame, against the hand's approach axis, the collision
+  // geometry of the body the palm frame is on ends: where an object the hand closes on meets
+  // the palm. 0 for a palm body without collision geometry. Throws std::invalid_argument for
+  // a side the profile has no hand for.
+  double palm_depth(const std::string& side) const;
+
   // ---- The head sensor.
   CameraInfo head_camera() const { return do_head_camera(); }
   // Casts the head sensor's rays in the current simulated state.
@@ -269,6 +275,8 @@ class Skillset {
       const std::vector<std::string>& chain_names) const = 0;
   virtual CameraInfo do_head_camera() const = 0;
   virtual DepthScan do_scan_depth() = 0;
+  // `hand` is one of the profile's hands.
+  virtual double do_palm_depth(const HandSpec& hand) const = 0;
   // `side` is a hand of the profile and `object` is not held.
   virtual void do_attach(const std::string& object, const std::string& side) = 0;
   // `object` is held.

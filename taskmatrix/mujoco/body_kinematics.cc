@@ -89,4 +89,34 @@ bool point_inside_geom(const mjModel* m, const mjData* d, int g, const mjtNum* p
   }
 }
 
+double geom_support(const mjModel* m, const mjData* d, int g, const mjtNum* dir) {
+  const mjtNum* c = d->geom_xpos + 3 * g;
+  const mjtNum* r = d->geom_xmat + 9 * g;  // row-major: column k is the geom's axis k
+  mjtNum local[3];                         // dir in the geom's frame
+  for (int k = 0; k < 3; ++k) local[k] = r[k] * dir[0] + r[3 + k] * dir[1] + r[6 + k] * dir[2];
+  const mjtNum* s = m->geom_size + 3 * g;
+  double extent = 0;
+  switch (m->geom_type[g]) {
+    case mjGEOM_SPHERE:
+      extent = s[0];
+      break;
+    case mjGEOM_CAPSULE:
+      extent = s[1] * std::abs(local[2]) + s[0];
+      break;
+    case mjGEOM_CYLINDER:
+      extent = s[1] * std::abs(local[2]) + s[0] * std::sqrt(std::max(0.0, 1 - local[2] * local[2]));
+      break;
+    case mjGEOM_BOX:
+      extent = s[0] * std::abs(local[0]) + s[1] * std::abs(local[1]) + s[2] * std::abs(local[2]);
+      break;
+    case mjGEOM_ELLIPSOID:
+      extent = std::sqrt(std::pow(s[0] * local[0], 2) + std::pow(s[1] * local[1], 2) +
+                         std::pow(s[2] * local[2], 2));
+      break;
+    default:
+      extent = m->geom_rbound[g];
+  }
+  return dir[0] * c[0] + dir[1] * c[1] + dir[2] * c[2] + extent;
+}
+
 }  // namespace taskmatrix::mujoco

@@ -35,4 +35,9 @@ bool sphere_clear_of_box(const mjModel* m, const mjData* d, int box, const mjtNu
 // ellipsoids and boxes; never a plane or a mesh.
 bool point_inside_geom(const mjModel* m, const mjData* d, int g, const mjtNum* point);
 
+// The furthest point of geom `g` as posed in `d` along the unit direction `dir`, as dir . p:
+// exact for spheres, capsules, cylinders, boxes and ellipsoids; other shapes by their bounding
+// sphere.
+double geom_support(const mjModel* m, const mjData* d, int g, const mjtNum* dir);
+
 }  // namespace taskmatrix::mujoco

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <set>
 #include <string>
@@ -129,6 +130,43 @@ class Composer {
   XMLElement* root_;
 };
 
+// Asset files (meshes, height fields, skins, textures) are named relative to their model
+// file's folder and the compiler's meshdir, texturedir or assetdir; the composed scene
+// compiles from memory, with no folder of its own. Each relative name becomes the absolute
+// path MuJoCo would have opened for the file alone, and the source's directory attributes
+// go (two files' meshdirs would otherwise conflict, or one would apply to the other's files).
+void resolve_asset_files(XMLElement* root, const MjcfSource& src) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::absolute(fs::path(src.file)).parent_path();
+  XMLElement* compiler = root->FirstChildElement("compiler");
+  auto dir_attribute = [&](const char* name) -> std::string {
+    const char* value = compiler ? compiler->Attribute(name) : nullptr;
+    if (value) return value;
+    const char* asset_dir = compiler ? compiler->Attribute("assetdir") : nullptr;
+    return asset_dir ? asset_dir : "";
+  };
+  const fs::path mesh_dir = folder / dir_attribute("meshdir");
+  const fs::path texture_dir = folder / dir_attribute("texturedir");
+  for (XMLElement* assets = root->FirstChildElement("asset"); assets;
+       assets = assets->NextSiblingElement("asset")) {
+    for (XMLElement* a = assets->FirstChildElement(); a; a = a->NextSiblingElement()) {
+      const std::string_view kind = a->Name();
+      const bool texture = kind == "texture";
+      if (!texture && kind != "mesh" && kind != "hfield" && kind != "skin") continue;
+      for (const char* attribute :
+           {"file", "fileright", "fileleft", "fileup", "filedown", "filefront", "fileback"}) {
+        const char* name = a->Attribute(attribute);
+        if (!name || !*name || fs::path(name).is_absolute()) continue;
+        const fs::path full = ((texture ? texture_dir : mesh_dir) / name).lexically_normal();
+        a->SetAttribute(attribute, full.string().c_str());
+      }
+    }
+  }
+  if (compiler) {
+    for (const char* name : {"meshdir", "texturedir", "assetdir"}) compiler->DeleteAttribute(name);
+  }
+}
+
 // MJCF's default angle unit is degrees, so a file without <compiler angle> means degree.
 std::string effective_angle(const XMLElement* root) {
   const XMLElement* compiler = root->FirstChildElement("compiler");
@@ -149,6 +187,8 @@ std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& enviro
   XMLDocument robot_doc, env_doc;
   parse(robot_doc, robot);
   parse(env_doc, environment);
+  resolve_asset_files(robot_doc.RootElement(), robot);
+  resolve_asset_files(env_doc.RootElement(), environment);
 
   const std::string robot_angle = effective_angle(robot_doc.RootElement());
   const std::string env_angle = effective_angle(env_doc.RootElement());

@@ -10,6 +10,9 @@
 //              children appended, robot first
 //   include, keyframe
 //              rejected: paths and qpos sizes do not survive composition
+// Asset files (mesh, hfield, skin, texture) named relative to a source's folder and its
+// compiler's meshdir/texturedir/assetdir become absolute paths, and those attributes go:
+// each file's assets load as they would from the file alone.
 #pragma once
 
 #include <string>

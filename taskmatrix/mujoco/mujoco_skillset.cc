@@ -133,6 +133,24 @@ core::CameraInfo MujocoSkillset::do_head_camera() const {
   return info;
 }
 
+double MujocoSkillset::do_palm_depth(const core::HandSpec& hand) const {
+  const mjModel* m = worker_.model();
+  const mjData* d = worker_.data();
+  const BodyFrame palm = resolve_frame(*scene_, d, hand.palm);
+  const core::Pose at = mujoco::frame_pose(d, palm);
+  const Eigen::Vector3d approach =
+      at.orientation *
+      Eigen::Vector3d(hand.approach[0], hand.approach[1], hand.approach[2]).normalized();
+  const mjtNum dir[3] = {approach.x(), approach.y(), approach.z()};
+  double front = -INFINITY;  // the palm geometry's furthest point along approach
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_bodyid[g] != palm.body || !(m->geom_contype[g] || m->geom_conaffinity[g])) continue;
+    front = std::max(front, geom_support(m, d, g, dir));
+  }
+  if (!std::isfinite(front)) return 0;
+  return std::max(0.0, approach.dot(at.position) - front);
+}
+
 core::DepthScan MujocoSkillset::do_scan_depth() {
   if (!sensor_) sensor_ = std::make_unique<HeadSensor>(*this);
   const SensorImage& image = sensor_->capture();
@@ -676,8 +694,10 @@ void MujocoSkillset::find_robot_contacts() {
   if (pairs_of_geom_.size() != static_cast<size_t>(ngeom)) {
     pairs_of_geom_.assign(static_cast<size_t>(ngeom), {});
     for (size_t k = 0; k < robot_pairs.size(); ++k) {
-      pairs_of_geom_[static_cast<size_t>(robot_pairs[k].g1)].push_back(static_cast<std::uint32_t>(k));
-      pairs_of_geom_[static_cast<size_t>(robot_pairs[k].g2)].push_back(static_cast<std::uint32_t>(k));
+      pairs_of_geom_[static_cast<size_t>(robot_pairs[k].g1)].push_back(
+          static_cast<std::uint32_t>(k));
+      pairs_of_geom_[static_cast<size_t>(robot_pairs[k].g2)].push_back(
+          static_cast<std::uint32_t>(k));
     }
   }
   if (!cached) {

@@ -162,6 +162,7 @@ class MujocoSkillset final : public core::Skillset {
   std::vector<std::string> do_attached_objects() const override;
   std::string do_holder_of(const std::string& object) const override;
   core::CameraInfo do_head_camera() const override;
+  double do_palm_depth(const core::HandSpec& hand) const override;
   core::DepthScan do_scan_depth() override;
   std::vector<std::string> do_touching(const std::string& part) const override;
   // The state recording's frames: every generalized position.
@@ -215,8 +216,8 @@ class MujocoSkillset final : public core::Skillset {
   WorldScript world_;
   ExecutionMode execution_ = ExecutionMode::kPhysics;
   ContactPruning pruning_;
-  PhysicsContacts contacts_;    // the physics steps' contact pass
-  bool own_contacts_ = false;   // step with contacts_ (physics, candidate_pairs, usable)
+  PhysicsContacts contacts_;   // the physics steps' contact pass
+  bool own_contacts_ = false;  // step with contacts_ (physics, candidate_pairs, usable)
   // frame_pose_at's path from the world to the frame's body, for the last joints and body
   // asked (programs ask the same many times a period), and the qpos it poses.
   std::optional<ChainPath> fk_path_;
@@ -235,8 +236,8 @@ class MujocoSkillset final : public core::Skillset {
     bool operator==(const GeomSnapshot&) const = default;
   };
   std::vector<GeomSnapshot> contact_pass_geoms_;
-  std::vector<int> changed_geoms_;                          // this pass
-  std::vector<std::vector<std::uint32_t>> pairs_of_geom_;   // robot pairs by geom
+  std::vector<int> changed_geoms_;                           // this pass
+  std::vector<std::vector<std::uint32_t>> pairs_of_geom_;    // robot pairs by geom
   std::vector<std::vector<mjContact>> robot_pair_contacts_;  // per robot pair
   std::vector<std::uint32_t> pairs_with_contacts_;           // ascending
   std::vector<std::uint32_t> pair_pass_;                     // the pass a pair was last tested

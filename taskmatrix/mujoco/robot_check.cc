@@ -9,6 +9,7 @@
 #include <random>
 #include <set>
 
+#include "taskmatrix/mujoco/body_kinematics.h"
 #include "taskmatrix/mujoco/kinematics.h"
 
 namespace taskmatrix::mujoco {
@@ -102,36 +103,8 @@ class Probe {
   }
   // The furthest point of a geom along `dir` (unit), as dir . p.
   double support(int g, const Vec3& dir) const {
-    const Vec3 c(d_->geom_xpos[3 * g], d_->geom_xpos[3 * g + 1], d_->geom_xpos[3 * g + 2]);
-    Mat3 r;
-    const mjtNum* x = d_->geom_xmat + 9 * g;
-    r << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
-    const Vec3 local = r.transpose() * dir;  // dir in the geom's frame
-    const mjtNum* s = m_->geom_size + 3 * g;
-    double extent = 0;
-    switch (m_->geom_type[g]) {
-      case mjGEOM_SPHERE:
-        extent = s[0];
-        break;
-      case mjGEOM_CAPSULE:
-        extent = s[1] * std::abs(local.z()) + s[0];
-        break;
-      case mjGEOM_CYLINDER:
-        extent =
-            s[1] * std::abs(local.z()) + s[0] * std::sqrt(std::max(0.0, 1 - local.z() * local.z()));
-        break;
-      case mjGEOM_BOX:
-        extent =
-            s[0] * std::abs(local.x()) + s[1] * std::abs(local.y()) + s[2] * std::abs(local.z());
-        break;
-      case mjGEOM_ELLIPSOID:
-        extent = std::sqrt(std::pow(s[0] * local.x(), 2) + std::pow(s[1] * local.y(), 2) +
-                           std::pow(s[2] * local.z(), 2));
-        break;
-      default:
-        extent = m_->geom_rbound[g];
-    }
-    return dir.dot(c) + extent;
+    const mjtNum u[3] = {dir.x(), dir.y(), dir.z()};
+    return geom_support(m_, d_.get(), g, u);
   }
 
   Vec3 body_position(int body) const {
@@ -278,7 +251,10 @@ RobotFinding check_camera(const Scene& scene) {
   return {Level::kOk, "head camera",
           "'" + cam + "' at " + fixed(probe.position(cam).z(), 2) + " m looks forward, " +
               fixed(below, 0) + " degrees below the horizontal at rest, upright, vertical field " +
-              fixed(fovy, 0) + " degrees; the head chain moves it"};
+              fixed(fovy, 0) + " degrees; " +
+              (scene.robot().find_chain("head") ? "the head chain moves it"
+                                                : "fixed to the trunk (no head chain): the "
+                                                  "base's yaw aims it")};
 }
 
 struct HandProbe {

@@ -55,7 +55,9 @@ bool excluded(const mjModel* m, int b1, int b2) {
 // robot at its rest posture and its base at the origin (facing +x), the optical axis must
 // point forward (within 80 degrees of +x), the image must be upright (x horizontal within 5
 // degrees, pointing to the robot's right; y upwards): fixate turns the base by the image's
-// horizontal angle. The head chain must move the camera: fixate and explore aim it with it.
+// horizontal angle. The head chain must move the camera: fixate and explore aim it with it;
+// a robot without a head chain (a camera fixed to the trunk) must have it on a body the base
+// moves, and they aim it with the base's yaw.
 void check_head_camera(const Scene& scene, const std::string& pfile) {
   const mjModel* m = scene.model();
   DataPtr d = make_data(m);
@@ -86,15 +88,19 @@ void check_head_camera(const Scene& scene, const std::string& pfile) {
                          "0 0 0 1\" in a head frame facing +x)");
   }
   const int cam_body = m->cam_bodyid[cam];
-  for (int j : scene.chain("head").joints) {
+  const bool head = scene.robot().find_chain("head") != nullptr;
+  for (int j : scene.chain(head ? "head" : "base").joints) {
     for (int b = cam_body; b > 0; b = m->body_parentid[b]) {
       if (b == m->jnt_bodyid[j]) return;
     }
   }
   throw InputError(pfile, "head_camera",
-                   name +
-                       " is not on a body the head chain moves (fixate and explore aim "
-                       "the camera with the head joints)");
+                   head ? name +
+                              " is not on a body the head chain moves (fixate and explore "
+                              "aim the camera with the head joints)"
+                        : name +
+                              " is not on a body the base moves (the robot has no head "
+                              "chain: fixate and explore aim the camera with the base)");
 }
 
 }  // namespace

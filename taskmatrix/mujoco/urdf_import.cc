@@ -175,9 +175,10 @@ std::string import_urdf_as_mjcf(const core::RobotProfile& profile) {
     actuators->InsertEndChild(act);
   }
   // MuJoCo writes a <size> and <compiler> of its own; drop what would conflict when composed.
+  // meshdir and texturedir stay: composition resolves the mesh files against them and the
+  // URDF's folder.
   if (tinyxml2::XMLElement* compiler = root->FirstChildElement("compiler")) {
-    for (const char* attr :
-         {"meshdir", "texturedir", "fusestatic", "discardvisual", "balanceinertia"}) {
+    for (const char* attr : {"fusestatic", "discardvisual", "balanceinertia"}) {
       compiler->DeleteAttribute(attr);
     }
   }

@@ -5,12 +5,14 @@
 // on it.
 //
 // Viewpoints: a grid over the head joints, and with the base free, base yaw turns of
-// +-0.5 and +-1.0 rad. After each scan, the next viewpoint is the one whose camera frustum
-// holds the most cells not yet observed (ties: the closest in joint space); cells that were
-// in the frustum of two viewpoints without being observed count as unobservable (occluded,
-// out of range) and are not chased further. Motion to a viewpoint is planned (collision-free);
-// a viewpoint in collision (an arm swept into furniture by a base turn) is taken from a base
-// moved away from where it stands (up to 0.45 m).
+// +-0.5 and +-1.0 rad. A robot without a head chain (its camera fixed to the trunk) has base
+// turns alone, in steps of 0.5 rad up to +-3 rad, each also from 0.3 m back; with the base
+// not free either, it looks once from where it stands. After each scan, the next viewpoint is the
+// one whose camera frustum holds the most cells not yet observed (ties: the closest in joint
+// space); cells that were in the frustum of two viewpoints without being observed count as
+// unobservable (occluded, out of range) and are not chased further. Motion to a viewpoint is
+// planned (collision-free); a viewpoint in collision (an arm swept into furniture by a base turn)
+// is taken from a base moved away from where it stands (up to 0.45 m).
 //
 // Records "coverage" (observed cells / all cells) after every scan. Completes when coverage
 // reaches `coverage`; fails with "coverage_short: ..." when no viewpoint promises a new cell
@@ -62,7 +64,9 @@ class Explore final : public core::TaskProgram {
     }
   }
 
-  std::vector<std::string> chains(const core::Skillset&) const override { return {"head"}; }
+  std::vector<std::string> chains(const core::Skillset& skills) const override {
+    return head_chains(skills);
+  }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
     base_ = use_base_;
     return head_claim(ctx, base_);
@@ -85,10 +89,17 @@ class Explore final : public core::TaskProgram {
     observed_.assign(static_cast<size_t>(nx_) * ny_, 0);
     missed_.assign(observed_.size(), 0);
     start_time_ = ctx.time();
-    chains_ = {"head"};
+    chains_ = head_chains(ctx.skills());
     if (base_) chains_.push_back("base");
-    make_viewpoints(ctx.skills());
     scan(ctx);
+    if (chains_.empty()) {
+      // No head chain and the base not free: one look from where the robot stands.
+      if (coverage() < target_ - 1e-12) {
+        failure_ = shortfall("nothing aims the camera (the robot has no head chain; base: false)");
+      }
+      return;
+    }
+    make_viewpoints(ctx.skills());
     next_viewpoint(ctx);
   }
 
@@ -187,9 +198,10 @@ class Explore final : public core::TaskProgram {
   }
 
   void make_viewpoints(core::Skillset& skills) {
-    const core::ChainInfo& head = skills.chain("head");
     const std::vector<double> now = skills.configuration(chains_);
-    const size_t n = head.joints.size();
+    const bool has_head = chains_.front() == "head";
+    const core::ChainInfo* head = has_head ? &skills.chain("head") : nullptr;
+    const size_t n = has_head ? head->joints.size() : 0;
     const int steps = n == 1 ? 9 : 5;
     std::vector<std::vector<double>> heads{{}};
     for (size_t j = 0; j < n; ++j) {
@@ -197,26 +209,39 @@ class Explore final : public core::TaskProgram {
       for (const auto& partial : heads) {
         for (int k = 0; k < steps; ++k) {
           std::vector<double> q = partial;
-          q.push_back(head.lower[j] + (head.upper[j] - head.lower[j]) * (k + 0.5) / steps);
+          q.push_back(head->lower[j] + (head->upper[j] - head->lower[j]) * (k + 0.5) / steps);
           next.push_back(q);
         }
       }
       heads.swap(next);
     }
-    std::vector<double> turns{0.0};
-    if (base_) turns = {0.0, -0.5, 0.5, -1.0, 1.0};
+    // Without a head the base does all the aiming: turns all the way round, each also from
+    // 0.3 m back along the new heading (a fixed camera sees nothing close below it).
+    std::vector<double> turns{0.0}, backs{0.0};
+    if (base_ && has_head) turns = {0.0, -0.5, 0.5, -1.0, 1.0};
+    if (base_ && !has_head) {
+      for (int k = 1; k <= 6; ++k) {
+        turns.push_back(-0.5 * k);
+        turns.push_back(0.5 * k);
+      }
+      backs.push_back(0.3);
+    }
     const core::ChainInfo* base = base_ ? &skills.chain("base") : nullptr;
-    for (double turn : turns) {
-      for (const auto& hq : heads) {
-        std::vector<double> v = hq;
-        if (base) {
-          std::vector<double> b(now.begin() + static_cast<long>(n), now.end());
-          if (b.size() != 3) continue;
-          b[2] += turn;
-          if (b[2] < base->lower[2] || b[2] > base->upper[2]) continue;
-          v.insert(v.end(), b.begin(), b.end());
+    for (double back : backs) {
+      for (double turn : turns) {
+        for (const auto& hq : heads) {
+          std::vector<double> v = hq;
+          if (base) {
+            std::vector<double> b(now.begin() + static_cast<long>(n), now.end());
+            if (b.size() != 3) continue;
+            b[2] += turn;
+            if (b[2] < base->lower[2] || b[2] > base->upper[2]) continue;
+            b[0] -= back * std::cos(b[2]);
+            b[1] -= back * std::sin(b[2]);
+            v.insert(v.end(), b.begin(), b.end());
+          }
+          viewpoints_.push_back(v);
         }
-        viewpoints_.push_back(v);
       }
     }
   }

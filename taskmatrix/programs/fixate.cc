@@ -12,7 +12,10 @@
 // control period. Ends when halted, after `duration` seconds if given, or, with
 // `until_centered`, once the object has stayed centred for 0.3 s: within `tolerance`, or, for
 // a head that cannot do better (a neck without pitch), in view with the head at its best
-// configuration and no horizontal error left. With `until_centered`, it fails (`invalid_goal`)
+// configuration and no horizontal error left. A robot without a head chain (its camera fixed
+// to the trunk) aims with the base's yaw alone; with the base not free either, nothing aims
+// the camera and the object counts as centred while it is in view. With `until_centered`, it
+// fails (`invalid_goal`)
 // when every base turn it asked for has been refused for 2 s (the object will not be centred
 // from where the robot stands), and (`tracking_error`) when it is not centred after 20 s.
 #include <algorithm>
@@ -64,7 +67,9 @@ class Fixate final : public core::TaskProgram {
     }
   }
 
-  std::vector<std::string> chains(const core::Skillset&) const override { return {"head"}; }
+  std::vector<std::string> chains(const core::Skillset& skills) const override {
+    return head_chains(skills);
+  }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
     base_ = use_base_;
     return head_claim(ctx, base_);
@@ -73,7 +78,8 @@ class Fixate final : public core::TaskProgram {
   void start(core::ProgramContext& ctx) override {
     core::Skillset& skills = ctx.skills();
     camera_ = skills.head_camera().frame;
-    head_ = skills.clamped_configuration({"head"});
+    has_head_ = !head_chains(skills).empty();
+    if (has_head_) head_ = skills.clamped_configuration({"head"});
     start_time_ = ctx.time();
     if (base_) {
       base_cmd_ = skills.clamped_configuration({"base"});
@@ -96,35 +102,21 @@ class Fixate final : public core::TaskProgram {
     ctx.record("tracking_error_rad", error);
 
     const double dt = skills.control_period();
-    const core::ChainInfo& head = skills.chain("head");
-    const std::vector<double> goal = look_at(skills, head, target);
-    std::vector<double> next = head_;
-    for (size_t i = 0; i < next.size(); ++i) {
-      const double step = head.speed.velocity * dt;
-      next[i] = std::clamp(next[i] + std::clamp(goal[i] - next[i], -step, step), head.lower[i],
-                           head.upper[i]);
-    }
-    // Nor is a head step checked on the way: a step to within kHeadClearanceM of anything (the
-    // head pitched down onto the robot's own chest, looking at an object close in front) is
-    // not taken; the margin covers the servo's overshoot. The goal is checked when it has moved
-    // kGoalRecheckRad since it last was; while it is clear the steps towards it go unchecked,
-    // else each step is checked and the head stops short.
-    auto clear = [&](const std::vector<double>& q) {
-      return skills.clearance({"head"}, q, 2 * kHeadClearanceM) >= kHeadClearanceM;
-    };
-    if (checked_goal_.empty() || max_difference(goal, checked_goal_) > kGoalRecheckRad) {
-      checked_goal_ = goal;
-      goal_clear_ = clear(goal);
-    }
-    if (next != head_ && (goal_clear_ || clear(next))) head_ = next;
-    skills.command({"head"}, head_);
+    std::vector<double> goal;  // the head's, if the robot has one
+    if (has_head_) goal = step_head(skills, target, dt);
 
     // What the head cannot take up: the object's horizontal angle from the camera at the
     // head's goal. The base turns it away when it may.
-    const double residual = view_angles(skills.frame_pose_at({"head"}, goal, camera_), target).x();
+    const double residual = view_angles(has_head_ ? skills.frame_pose_at({"head"}, goal, camera_)
+                                                  : skills.frame_pose(camera_),
+                                        target)
+                                .x();
     const bool head_there = max_difference(goal, head_) < 0.01;
-    const bool best_possible =
-        head_there && std::abs(residual) <= tolerance_ && core::in_camera_view(skills, o->box);
+    // Nothing aims the camera (no head chain, the base not free): keeping the object in view
+    // is the best there is.
+    const bool aims = has_head_ || base_;
+    const bool best_possible = head_there && (std::abs(residual) <= tolerance_ || !aims) &&
+                               core::in_camera_view(skills, o->box);
     if (base_) {
       if (std::abs(residual) > tolerance_ / 2) {
         const core::ChainInfo& base = skills.chain("base");
@@ -188,6 +180,34 @@ class Fixate final : public core::TaskProgram {
     if (base_) skills.command({"base"}, skills.clamped_configuration({"base"}));
   }
 
+  // One control period of the head towards the configuration that centres `target`, within
+  // its speed limits; returns that goal.
+  std::vector<double> step_head(core::Skillset& skills, const Eigen::Vector3d& target, double dt) {
+    const core::ChainInfo& head = skills.chain("head");
+    const std::vector<double> goal = look_at(skills, head, target);
+    std::vector<double> next = head_;
+    for (size_t i = 0; i < next.size(); ++i) {
+      const double step = head.speed.velocity * dt;
+      next[i] = std::clamp(next[i] + std::clamp(goal[i] - next[i], -step, step), head.lower[i],
+                           head.upper[i]);
+    }
+    // Nor is a head step checked on the way: a step to within kHeadClearanceM of anything (the
+    // head pitched down onto the robot's own chest, looking at an object close in front) is
+    // not taken; the margin covers the servo's overshoot. The goal is checked when it has moved
+    // kGoalRecheckRad since it last was; while it is clear the steps towards it go unchecked,
+    // else each step is checked and the head stops short.
+    auto clear = [&](const std::vector<double>& q) {
+      return skills.clearance({"head"}, q, 2 * kHeadClearanceM) >= kHeadClearanceM;
+    };
+    if (checked_goal_.empty() || max_difference(goal, checked_goal_) > kGoalRecheckRad) {
+      checked_goal_ = goal;
+      goal_clear_ = clear(goal);
+    }
+    if (next != head_ && (goal_clear_ || clear(next))) head_ = next;
+    skills.command({"head"}, head_);
+    return goal;
+  }
+
   // Head joints that point the camera at `target`, from the current goal: a few damped
   // Gauss-Newton steps on the view angles, within joint limits.
   std::vector<double> look_at(core::Skillset& skills, const core::ChainInfo& head,
@@ -221,6 +241,7 @@ class Fixate final : public core::TaskProgram {
   bool until_centered_;
   double tolerance_;
   bool use_base_, base_ = false;
+  bool has_head_ = false;  // a robot whose camera is fixed to its trunk has no head chain
   std::string camera_;
   std::vector<double> head_, goal_, base_cmd_;
   // The head goal last checked for collision, and whether it was clear.

@@ -27,6 +27,10 @@ constexpr double kSettle = 0.003;
 constexpr double kGraspableReach = 0.03 - kSettle;
 // The closing sweep's step (the angle the joint that turns most turns per step).
 constexpr double kSweepStepRad = 0.2;
+// A finger's first segment slides (a parallel jaw) when, from open to `fist`, it turns less
+// than kSlideTurnRad and moves more than kSlideMinM.
+constexpr double kSlideTurnRad = 0.01;
+constexpr double kSlideMinM = 0.005;
 
 Eigen::Vector3d horizontal(Eigen::Vector3d v) {
   v.z() = 0;
@@ -183,7 +187,15 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
     const Eigen::Vector3d base = in_palm(open, f.bodies.front());
     lo = std::min(lo, base.dot(g.closing));
     hi = std::max(hi, base.dot(g.closing));
-    depth += -base.dot(g.approach);
+    // A finger that turns closes from its root, about where the palm is. One whose first
+    // segment slides without turning (a parallel jaw) may have its frame anywhere along the
+    // approach: there the palm's own geometry tells where an object stops.
+    const core::Pose root_open = pose_in_palm(open, f.bodies.front());
+    const core::Pose root_closed = pose_in_palm(closed, f.bodies.front());
+    const bool slides =
+        root_open.orientation.angularDistance(root_closed.orientation) < kSlideTurnRad &&
+        (root_closed.position - root_open.position).norm() > kSlideMinM;
+    depth += slides ? skills.palm_depth(hand.side) : -base.dot(g.approach);
     reach += in_palm(closed, f.bodies.back()).dot(g.approach);
     // The open finger, about straight: its segments' origins and its tip, estimated from the
     // segment before the last. (Closing, the fingers curl towards the object and stop on it.)

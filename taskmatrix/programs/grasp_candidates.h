@@ -39,7 +39,8 @@ struct HandGeometry {
   // fingers can close around.
   double aperture_m = 0;
   // How far behind the palm frame (against the approach axis) the fingers' first joints sit:
-  // about where the palm is.
+  // about where the palm is. For a finger whose first segment slides (a parallel jaw), where
+  // the palm's geometry ends instead (Skillset::palm_depth).
   double palm_depth_m = 0;
   // How far ahead of the palm frame (along the approach axis) the fingers' last segments begin
   // when the hand is closed (`fist`): a section grasped nearer the palm than this lies behind

@@ -767,10 +767,16 @@ std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::str
   return chains;
 }
 
+std::vector<std::string> head_chains(const core::Skillset& skills) {
+  if (skills.profile().find_chain("head")) return {"head"};
+  return {};
+}
+
 std::vector<std::string> head_claim(const core::ClaimContext& ctx, bool& base) {
   base = base && !ctx.busy("base");
-  if (base) return {"head", "base"};
-  return {"head"};
+  std::vector<std::string> chains = head_chains(ctx.skills);
+  if (base) chains.push_back("base");
+  return chains;
 }
 
 std::optional<core::Failure> MotionStage::start_following(

@@ -256,7 +256,11 @@ class ArmMotion {
 std::vector<std::string> arm_claim(const core::ClaimContext& ctx, const std::string& arm,
                                    bool& torso, bool& base);
 
-// The chains a head program claims: the head, and the base when allowed and free.
+// The robot's head chain, or nothing for a robot whose head camera is fixed to its trunk.
+std::vector<std::string> head_chains(const core::Skillset& skills);
+
+// The chains a head program claims: the head (if the robot has one), and the base when
+// allowed and free.
 std::vector<std::string> head_claim(const core::ClaimContext& ctx, bool& base);
 
 // The failure of a failed plan: its status's code and its message.

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "taskmatrix/core/input_error.h"
@@ -110,8 +111,8 @@ TEST(RobotProfile, ChainsMustBeDisjoint) {
 
 TEST(RobotProfile, RequiredChainsAndPosturesMustExist) {
   RobotProfile p = valid_profile();
-  p.chains.erase(p.chains.begin() + 2);
-  EXPECT_NE(error_of(p).find("missing required chain 'head'"), std::string::npos);
+  p.chains.erase(p.chains.begin() + 3);
+  EXPECT_NE(error_of(p).find("missing required chain 'left_arm'"), std::string::npos);
   p = valid_profile();
   p.postures.erase("fist");
   EXPECT_NE(error_of(p).find("missing required posture 'fist'"), std::string::npos);
@@ -123,6 +124,19 @@ TEST(RobotProfile, RequiredChainsAndPosturesMustExist) {
   p.canned.erase("wave");
   EXPECT_NE(error_of(p).find("canned: missing required canned motion 'wave'"), std::string::npos)
       << error_of(p);
+}
+
+// A robot with a rigid torso or a camera fixed to its trunk leaves those chains out (and
+// their rest values, which would name a chain it does not have).
+TEST(RobotProfile, TorsoAndHeadChainsAreOptional) {
+  RobotProfile p = valid_profile();
+  for (const char* chain : {"torso", "head"}) {
+    p.chains.erase(std::find_if(p.chains.begin(), p.chains.end(),
+                                [&](const ChainSpec& c) { return c.name == chain; }));
+    p.postures["rest"].erase(chain);
+    p.speed_limits.erase(chain);
+  }
+  EXPECT_EQ(error_of(p), "");
 }
 
 // No program opens a hand to `hand_open`: a profile without it is complete.

@@ -6,6 +6,7 @@
 
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -174,6 +175,120 @@ TEST(CheckRobot, ARobotWithoutATorsoChainPassesTheLintAndPicksUpTheCup) {
                               "environments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\n"
                               "seed: 1\ntime_limit_s: 40\nsuccess: grasping(cup)\n"}});
   const CommandResult r = run_cli("check-robot rigid --env kitchen --jobs 1", root.path());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| pickup | success |"), std::string::npos) << r.out;
+}
+
+// A robot whose head camera is fixed to its trunk (no neck joints) has no `head` chain: it
+// loads, passes the lint, and fixate, explore and pickup aim the camera with the base.
+TEST(CheckRobot, ARobotWithAFixedHeadCameraTracksExploresAndPicksUpWithItsBase) {
+  ScratchRoot root;
+  copy_minibot(root, "fixedcam");
+  const std::string profile = "models/robots/fixedcam/profile.yaml";
+  const std::string model = "models/robots/fixedcam/minibot.xml";
+  root.replace(profile, "  head:       {joints: [HeadYaw]}\n", "");
+  root.replace(profile, "    head:       [0]\n", "");
+  root.replace(profile, "  head:       {velocity: 1.5, acceleration: 4}\n", "");
+  root.replace(profile, "  head:       300\n", "");
+  root.replace(model,
+               R"(<joint name="HeadYaw" type="hinge" axis="0 0 1" range="-2 2" damping="5"/>)", "");
+  root.replace(model, R"(<position name="HeadYaw" joint="HeadYaw" kp="300" ctrlrange="-2 2"/>)",
+               "");
+  ASSERT_EQ(root.read(profile).find("head:"), std::string::npos) << root.read(profile);
+  const std::string common =
+      "robots: [fixedcam]\nenvironments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\n"
+      "seed: 1\n";
+  write_default_suite(
+      root,
+      {{"fixate", "program: fixate\nparams: {object: visitor, duration: 6}\n" + common +
+                      "visitor: {walk_speed: 0.4}\ntime_limit_s: 30\nsuccess: in_view(visitor)\n"},
+       {"explore",
+        "program: explore\nparams: {surface: side_surface, coverage: 0.9, cell_m: 0.05}\n" +
+            common + "time_limit_s: 60\n"},
+       {"pickup", "program: pickup\nparams: {object: cup}\n" + common +
+                      "time_limit_s: 40\nsuccess: grasping(cup)\n"}});
+  const CommandResult r = run_cli("check-robot fixedcam --env kitchen --jobs 1", root.path());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("fixed to the trunk (no head chain)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| fixate | success |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| explore | success |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| pickup | success |"), std::string::npos) << r.out;
+}
+
+// Replaces, in a file of the scratch root, the text from `start` up to and including the
+// `closings`-th "</body>" after it.
+void replace_bodies(const ScratchRoot& root, const std::string& file, const std::string& start,
+                    int closings, const std::string& with) {
+  std::string text = root.read(file);
+  const size_t from = text.find(start);
+  ASSERT_NE(from, std::string::npos) << start;
+  size_t to = from;
+  for (int i = 0; i < closings; ++i) {
+    to = text.find("</body>", to);
+    ASSERT_NE(to, std::string::npos);
+    to += 7;
+  }
+  text.replace(from, to - from, with);
+  root.write(file, text);
+}
+
+// A robot with parallel-jaw grippers (each finger one segment on a slide joint, its frame
+// level with the palm frame): reach places the palm by the palm's geometry, not by where the
+// jaws' frames sit, and pickup holds the cup.
+TEST(CheckRobot, ARobotWithParallelJawGrippersPicksUpTheCup) {
+  ScratchRoot root;
+  copy_minibot(root, "jaws");
+  const std::string profile = "models/robots/jaws/profile.yaml";
+  const std::string model = "models/robots/jaws/minibot.xml";
+  for (const std::string side : {"L", "R"}) {
+    for (const auto& [finger, y, axis] :
+         {std::tuple{"1", "0.06", "0 -1 0"}, std::tuple{"2", "-0.06", "0 1 0"}}) {
+      const std::string jaw = side + "Jaw" + finger;
+      replace_bodies(root, model, "<body name=\"" + side + "Finger" + finger + "ProxLink\"", 2,
+                     "<body name=\"" + jaw + "\" pos=\"0 " + y + " 0\"><inertial pos=\"0 0 0\" " +
+                         "mass=\"0.04\" diaginertia=\"1e-5 1e-5 1e-5\"/><joint name=\"" + jaw +
+                         "\" type=\"slide\" axis=\"" + axis + "\" range=\"0 0.055\" " +
+                         "damping=\"5\"/><geom name=\"" + jaw + "Pad\" type=\"box\" " +
+                         "size=\"0.035 0.008 0.012\" pos=\"0.003 0 0\"/></body>");
+      const std::string prox = side + "Finger" + finger + "Prox";
+      const std::string dist = side + "Finger" + finger + "Dist";
+      root.replace(
+          model,
+          "<position name=\"" + dist + "\" joint=\"" + dist + "\" kp=\"30\" ctrlrange=\"0 1\"/>",
+          "");
+      root.replace(model,
+                   "<position name=\"" + prox + "\" joint=\"" + prox +
+                       "\" kp=\"30\" ctrlrange=\"-0.4 0.8\"/>",
+                   "<position name=\"" + jaw + "\" joint=\"" + jaw +
+                       "\" kp=\"300\" ctrlrange=\"0 0.055\"/>");
+      root.replace(
+          profile,
+          "{joints: [" + prox + ", " + dist + "], bodies: [" + prox + "Link, " + dist + "Link]}",
+          "{joints: [" + jaw + "], bodies: [" + jaw + "]}");
+    }
+    root.replace(profile,
+                 "[" + side + "Finger1Prox, " + side + "Finger1Dist, " + side + "Finger2Prox, " +
+                     side + "Finger2Dist]",
+                 "[" + side + "Jaw1, " + side + "Jaw2]");
+  }
+  root.replace(model, R"(size="0.022 0.062 0.016")", R"(size="0.022 0.075 0.016")");
+  root.replace(model, R"(size="0.022 0.062 0.016")", R"(size="0.022 0.075 0.016")");
+  for (int i = 0; i < 4; ++i) root.replace(profile, "[-0.3, 0, -0.3, 0]", "[0, 0]");
+  for (int i = 0; i < 2; ++i) root.replace(profile, "[0.4, 0.45, 0.4, 0.45]", "[0.05, 0.05]");
+  root.replace(profile, "hand:       [1, 1, 1, 1]", "hand:       [1, 1]");
+  // Jaws close at 0.1 m/s, as a real parallel gripper does.
+  root.replace(profile, "left_hand:  {velocity: 2, acceleration: 8}",
+               "left_hand:  {velocity: 0.1, acceleration: 0.5}");
+  root.replace(profile, "right_hand: {velocity: 2, acceleration: 8}",
+               "right_hand: {velocity: 0.1, acceleration: 0.5}");
+  ASSERT_EQ(root.read(model).find("Finger"), std::string::npos) << root.read(model);
+  write_default_suite(root, {{"pickup",
+                              "program: pickup\nparams: {object: cup}\nrobots: [jaws]\n"
+                              "environments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\n"
+                              "seed: 1\ntime_limit_s: 40\nsuccess: grasping(cup)\n"}});
+  const CommandResult r = run_cli("check-robot jaws --env kitchen --jobs 1", root.path());
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| pickup | success |"), std::string::npos) << r.out;

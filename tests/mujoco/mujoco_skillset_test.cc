@@ -105,7 +105,8 @@ TEST_P(SkillsetOnBothRobots, ForwardKinematicsMatchesMujocoSitePoses) {
     EXPECT_LT(angle_between(pose.orientation, Eigen::Quaterniond(rot)), 1e-9);
     // Bit for bit the whole model's kinematics composed with the site's offset (frame_pose_at
     // computes only the bodies between the world and the palm).
-    const core::Pose whole = frame_pose(ref.get(), resolve_frame(skills_->scene(), ref.get(), palm));
+    const core::Pose whole =
+        frame_pose(ref.get(), resolve_frame(skills_->scene(), ref.get(), palm));
     EXPECT_EQ(pose.position, whole.position);
     EXPECT_EQ(pose.orientation.coeffs(), whole.orientation.coeffs());
   }
@@ -667,6 +668,15 @@ TEST_P(SkillsetOnBothRobots, SameSeedSamePathWhenOtherWorkersPlanAtTheSameTime) 
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, SkillsetOnBothRobots, ::testing::Values("tallbot", "minibot"));
+
+// Where an object the hand closes on meets the palm: minibot's palm block (half depth 22 mm,
+// its centre 50 mm behind the palm frame) ends 28 mm behind the frame on both hands.
+TEST(SkillsetPalmDepth, IsWhereThePalmBodysGeometryEndsAlongApproach) {
+  MujocoSkillset minibot(test::scene("minibot", "kitchen"));
+  EXPECT_NEAR(minibot.palm_depth("left"), 0.028, 1e-9);
+  EXPECT_NEAR(minibot.palm_depth("right"), 0.028, 1e-9);
+  EXPECT_THROW(minibot.palm_depth("middle"), std::invalid_argument);
+}
 
 }  // namespace
 }  // namespace taskmatrix::mujoco

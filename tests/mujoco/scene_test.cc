@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -226,6 +229,75 @@ TEST(Robots, EveryJointHasAPositionActuatorWithItsRange) {
       }
     }
   }
+}
+
+// A binary STL of a 4 x 3 x 2 cm box centred on its origin.
+void write_box_stl(const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  const float v[8][3] = {{-.02f, -.015f, -.01f}, {-.02f, -.015f, .01f}, {-.02f, .015f, -.01f},
+                         {-.02f, .015f, .01f},   {.02f, -.015f, -.01f}, {.02f, -.015f, .01f},
+                         {.02f, .015f, -.01f},   {.02f, .015f, .01f}};
+  const int faces[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                            {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  std::ofstream out(file, std::ios::binary);
+  const char header[80] = {};
+  out.write(header, sizeof header);
+  const std::uint32_t n = 12;
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  for (const auto& f : faces) {
+    const float normal[3] = {0, 0, 0};
+    out.write(reinterpret_cast<const char*>(normal), sizeof normal);
+    for (int i : f) out.write(reinterpret_cast<const char*>(v[i]), sizeof v[i]);
+    const std::uint16_t attributes = 0;
+    out.write(reinterpret_cast<const char*>(&attributes), sizeof attributes);
+  }
+}
+
+// Public humanoid models come with mesh files beside them, named relative to the model's
+// folder and its compiler's meshdir (MJCF), or as package:// URIs found through meshdir
+// (URDF). The composed scene compiles from memory: the files must still be found, and the
+// mesh collides as the robot's part.
+TEST(Robots, MeshFilesAreFoundBesideTheRobotsModelMjcfAndUrdf) {
+  test::ScratchRoot root;
+  const std::filesystem::path robots = root.path() / "models" / "robots";
+  const std::filesystem::path kitchen = root.path() / "models" / "environments" / "kitchen";
+  // MJCF: meshdir="parts", the visor a colliding mesh on the head.
+  std::filesystem::copy(robots / "minibot", robots / "meshy");
+  std::filesystem::remove(robots / "meshy" / "minibot.urdf");
+  write_box_stl(robots / "meshy" / "parts" / "visor.stl");
+  const std::string xml = "models/robots/meshy/minibot.xml";
+  root.replace(xml, "<compiler ", "<compiler meshdir=\"parts\" ");
+  root.replace(xml, "<worldbody>",
+               "<asset><mesh name=\"visor\" file=\"visor.stl\"/></asset>\n  <worldbody>");
+  root.replace(xml, "<geom name=\"HeadSkull\"",
+               "<geom name=\"Visor\" type=\"mesh\" mesh=\"visor\" pos=\"0.07 0 0.14\"/>"
+               "<geom name=\"HeadSkull\"");
+  root.replace("models/robots/meshy/profile.yaml", "name: minibot", "name: meshy");
+  auto mjcf = Scene::load(robots / "meshy", kitchen);
+  const mjModel* m = mjcf->model();
+  ASSERT_EQ(m->nmesh, 1);
+  const int visor = mj_name2id(m, mjOBJ_GEOM, "Visor");
+  ASSERT_GE(visor, 0);
+  EXPECT_EQ(m->geom_type[visor], mjGEOM_MESH);
+  EXPECT_NE(m->geom_contype[visor], 0);
+  EXPECT_TRUE(mjcf->is_robot_body(m->geom_bodyid[visor]));
+  // URDF: the mesh by a package:// URI, found through the URDF's <mujoco> meshdir.
+  std::filesystem::create_directories(robots / "meshy_urdf");
+  std::filesystem::copy(robots / "minibot" / "minibot.urdf", robots / "meshy_urdf" / "m.urdf");
+  write_box_stl(robots / "meshy_urdf" / "meshes" / "visor.stl");
+  root.write("models/robots/meshy_urdf/profile.yaml",
+             root.read("models/robots/minibot_urdf/profile.yaml"));
+  root.replace("models/robots/meshy_urdf/profile.yaml", "name: minibot_urdf", "name: meshy_urdf");
+  root.replace("models/robots/meshy_urdf/profile.yaml", "urdf: ../minibot/minibot.urdf",
+               "urdf: m.urdf");
+  const std::string urdf = "models/robots/meshy_urdf/m.urdf";
+  root.replace(urdf, "<compiler ", "<compiler meshdir=\"meshes\" ");
+  root.replace(urdf, "    <collision name=\"HeadNeck\">",
+               "    <collision name=\"Visor\"><origin xyz=\"0.07 0 0.14\" rpy=\"0 0 0\"/>"
+               "<geometry><mesh filename=\"package://meshy/meshes/visor.stl\"/></geometry>"
+               "</collision>\n    <collision name=\"HeadNeck\">");
+  auto from_urdf = Scene::load(robots / "meshy_urdf", kitchen);
+  EXPECT_EQ(from_urdf->model()->nmesh, 1);
 }
 
 }  // namespace

@@ -438,6 +438,9 @@ std::vector<core::Collision> FakeSkillset::do_collisions(
   return collisions_at(q_, chain_names, {});
 }
 
+// The fake's palm is a frame at the arm's tip: nothing of it lies behind the frame.
+double FakeSkillset::do_palm_depth(const core::HandSpec&) const { return 0; }
+
 core::CameraInfo FakeSkillset::do_head_camera() const {
   core::CameraInfo info;
   info.frame = "head_camera";

@@ -83,6 +83,7 @@ class FakeSkillset final : public core::Skillset {
   std::vector<core::Collision> do_collisions(
       const std::vector<std::string>& chain_names) const override;
   core::CameraInfo do_head_camera() const override;
+  double do_palm_depth(const core::HandSpec& hand) const override;
   core::DepthScan do_scan_depth() override;
   void do_attach(const std::string& object, const std::string& side) override;
   void do_detach(const std::string& object) override;
