@@ -4,8 +4,9 @@
 // camera's view angles) and moves the head towards it within the head's speed limits. When
 // the head alone cannot centre the object (the head is at a limit and the object is off to
 // the side) and the base is free, the base turns about its yaw joint, the third joint of the
-// planar base chain (x, y, yaw) as the skillset defines it; a turn that would bring the robot
-// into collision (is_valid) is not taken, nor a head step to within 1 cm of anything, the
+// planar base chain (x, y, yaw) as the skillset defines it, the other way round when the
+// short way is past a limit of a yaw whose range spans a full turn; a turn that would bring the
+// robot into collision (is_valid) is not taken, nor a head step to within 1 cm of anything, the
 // robot's own body included (clearance).
 //
 // Records "tracking_error_rad" (the angle between the optical axis and the object) every
@@ -121,7 +122,15 @@ class Fixate final : public core::TaskProgram {
       if (std::abs(residual) > tolerance_ / 2) {
         const core::ChainInfo& base = skills.chain("base");
         const double step = base.speed.velocity * dt;
-        const double turn = std::clamp(-residual, -step, step);  // +x right: turn left for -x
+        // The heading that takes up the residual (+x right: turn left for -x). A yaw joint
+        // whose range spans a full turn reaches a heading past one of its limits the other way
+        // round (a robot that starts facing -x at the limit of a [-pi, pi] yaw).
+        double wanted = -residual;
+        const double heading = base_cmd_[2] + wanted;
+        const bool full_turn = base.upper[2] - base.lower[2] >= 2 * M_PI - 1e-3;
+        if (full_turn && heading > base.upper[2]) wanted -= 2 * M_PI;
+        if (full_turn && heading < base.lower[2]) wanted += 2 * M_PI;
+        const double turn = std::clamp(wanted, -step, step);
         std::vector<double> turned = base_cmd_;
         turned[2] = std::clamp(base_cmd_[2] + turn, base.lower[2], base.upper[2]);
         // Nothing checks a commanded turn on the way: one that would sweep the robot (a hand

@@ -375,6 +375,34 @@ success: all_of(above(cup, side_surface), above(box, side_surface), in_view(visi
   EXPECT_NE(trials.find("\"program\":\"retreat\""), std::string::npos);
 }
 
+// A room whose robot starts facing -x, at the limit of a [-pi, pi] base yaw, the visitor behind
+// it: the short way round is past the limit, so fixate turns the base the other way (before,
+// the turn was clamped at the limit and the visitor never came into view).
+TEST(FixateFacingAway, TurnsTheBaseTheOtherWayWhenTheShortWayIsPastItsYawLimit) {
+  test::ScratchRoot root;
+  root.replace("models/environments/kitchen/environment.yaml",
+               "robot_start: {x: 0.0, y: 0.0, yaw: 0.0}",
+               "robot_start: {x: 0.0, y: 0.0, yaw: 3.14159}");
+  root.write("fixate.yaml", R"(program: fixate
+params: {object: visitor, until_centered: true}
+robots: [minibot]
+environments: [kitchen]
+obstacles: {count: 8}
+layout_seed: 3
+seed: 1
+trials: 1
+time_limit_s: 40
+success: in_view(visitor)
+)");
+  const test::CommandResult r =
+      test::run_cli("run " + (root.path() / "fixate.yaml").string() +
+                        " --jobs 1 --progress off --out " + (root.path() / "run").string(),
+                    root.path());
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string trials = root.read("run/trials.jsonl");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
 // Lifting a held tool off the table before a plan: atlas's arm could not keep the hand's
 // orientation exactly, and the nearest solution tipped the vacuum about the grip, pushing its
 // battery 6 mm into the table, so the next plan started in collision.
