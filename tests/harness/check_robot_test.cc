@@ -22,6 +22,12 @@ void copy_minibot(const ScratchRoot& root, const std::string& name) {
   root.replace("models/robots/" + name + "/profile.yaml", "name: minibot", "name: " + name);
 }
 
+// Removes each of `texts` (each must be there) from a file of the scratch root.
+void remove_all(const ScratchRoot& root, const std::string& file,
+                const std::vector<std::string>& texts) {
+  for (const std::string& text : texts) root.replace(file, text, "");
+}
+
 // A default suite of program scenarios (file stem, text) in the scratch root: what
 // check-robot's quick run runs.
 void write_default_suite(const ScratchRoot& root,
@@ -123,6 +129,20 @@ INSTANTIATE_TEST_SUITE_P(
                     "| load | ERROR | in kitchen: "}),
     [](const auto& p) { return p.param.name; });
 
+// check-robot NAME in the kitchen with a default suite of one pickup of the cup: a clean lint
+// and the cup picked up.
+void expect_clean_lint_and_cup_pickup(const ScratchRoot& root, const std::string& robot) {
+  write_default_suite(root,
+                      {{"pickup", "program: pickup\nparams: {object: cup}\nrobots: [" + robot +
+                                      "]\nenvironments: [kitchen]\nobstacles: {count: 8}\n"
+                                      "layout_seed: 3\nseed: 1\ntime_limit_s: 40\n"
+                                      "success: grasping(cup)\n"}});
+  const CommandResult r = run_cli("check-robot " + robot + " --env kitchen --jobs 1", root.path());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| pickup | success |"), std::string::npos) << r.out;
+}
+
 // The quick run goes through the scenario runner with the root's default suite: here a
 // two-scenario suite in a scratch root, one that succeeds and one that cannot.
 TEST(CheckRobot, QuickRunPrintsAProgramTableAndExitsFourOnAFailure) {
@@ -158,26 +178,16 @@ TEST(CheckRobot, ARobotWithoutATorsoChainPassesTheLintAndPicksUpTheCup) {
   copy_minibot(root, "rigid");
   const std::string profile = "models/robots/rigid/profile.yaml";
   const std::string model = "models/robots/rigid/minibot.xml";
-  root.replace(profile, "  torso:      {joints: [TorsoPitch]}\n", "");
-  root.replace(profile, "    torso:      [0]\n", "");
-  root.replace(profile, "  torso:      {velocity: 0.8, acceleration: 2}\n", "");
   root.replace(profile, "  bow:\n    chains: [torso]\n", "  bow:\n    chains: [head]\n");
-  root.replace(profile, "  torso:      800\n", "");
-  root.replace(
-      model,
-      R"(<joint name="TorsoPitch" type="hinge" axis="0 1 0" range="-0.2 0.6" damping="50"/>)", "");
-  root.replace(model,
-               R"(<position name="TorsoPitch" joint="TorsoPitch" kp="800" ctrlrange="-0.2 0.6"/>)",
-               "");
+  remove_all(root, profile,
+             {"  torso:      {joints: [TorsoPitch]}\n", "    torso:      [0]\n",
+              "  torso:      {velocity: 0.8, acceleration: 2}\n", "  torso:      800\n"});
+  remove_all(
+      root, model,
+      {R"(<joint name="TorsoPitch" type="hinge" axis="0 1 0" range="-0.2 0.6" damping="50"/>)",
+       R"(<position name="TorsoPitch" joint="TorsoPitch" kp="800" ctrlrange="-0.2 0.6"/>)"});
   ASSERT_EQ(root.read(profile).find("torso:"), std::string::npos) << root.read(profile);
-  write_default_suite(root, {{"pickup",
-                              "program: pickup\nparams: {object: cup}\nrobots: [rigid]\n"
-                              "environments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\n"
-                              "seed: 1\ntime_limit_s: 40\nsuccess: grasping(cup)\n"}});
-  const CommandResult r = run_cli("check-robot rigid --env kitchen --jobs 1", root.path());
-  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("| pickup | success |"), std::string::npos) << r.out;
+  expect_clean_lint_and_cup_pickup(root, "rigid");
 }
 
 // A robot whose head camera is fixed to its trunk (no neck joints) has no `head` chain: it
@@ -187,14 +197,12 @@ TEST(CheckRobot, ARobotWithAFixedHeadCameraTracksExploresAndPicksUpWithItsBase) 
   copy_minibot(root, "fixedcam");
   const std::string profile = "models/robots/fixedcam/profile.yaml";
   const std::string model = "models/robots/fixedcam/minibot.xml";
-  root.replace(profile, "  head:       {joints: [HeadYaw]}\n", "");
-  root.replace(profile, "    head:       [0]\n", "");
-  root.replace(profile, "  head:       {velocity: 1.5, acceleration: 4}\n", "");
-  root.replace(profile, "  head:       300\n", "");
-  root.replace(model,
-               R"(<joint name="HeadYaw" type="hinge" axis="0 0 1" range="-2 2" damping="5"/>)", "");
-  root.replace(model, R"(<position name="HeadYaw" joint="HeadYaw" kp="300" ctrlrange="-2 2"/>)",
-               "");
+  remove_all(root, profile,
+             {"  head:       {joints: [HeadYaw]}\n", "    head:       [0]\n",
+              "  head:       {velocity: 1.5, acceleration: 4}\n", "  head:       300\n"});
+  remove_all(root, model,
+             {R"(<joint name="HeadYaw" type="hinge" axis="0 0 1" range="-2 2" damping="5"/>)",
+              R"(<position name="HeadYaw" joint="HeadYaw" kp="300" ctrlrange="-2 2"/>)"});
   ASSERT_EQ(root.read(profile).find("head:"), std::string::npos) << root.read(profile);
   const std::string common =
       "robots: [fixedcam]\nenvironments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\n"
@@ -284,14 +292,7 @@ TEST(CheckRobot, ARobotWithParallelJawGrippersPicksUpTheCup) {
   root.replace(profile, "right_hand: {velocity: 2, acceleration: 8}",
                "right_hand: {velocity: 0.1, acceleration: 0.5}");
   ASSERT_EQ(root.read(model).find("Finger"), std::string::npos) << root.read(model);
-  write_default_suite(root, {{"pickup",
-                              "program: pickup\nparams: {object: cup}\nrobots: [jaws]\n"
-                              "environments: [kitchen]\nobstacles: {count: 8}\nlayout_seed: 3\n"
-                              "seed: 1\ntime_limit_s: 40\nsuccess: grasping(cup)\n"}});
-  const CommandResult r = run_cli("check-robot jaws --env kitchen --jobs 1", root.path());
-  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("| pickup | success |"), std::string::npos) << r.out;
+  expect_clean_lint_and_cup_pickup(root, "jaws");
 }
 
 TEST(CheckRobot, UnknownNamesAreBadInput) {
