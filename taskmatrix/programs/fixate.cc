@@ -16,9 +16,9 @@
 // configuration and no horizontal error left. A robot without a head chain (its camera fixed
 // to the trunk) aims with the base's yaw alone; with the base not free either, nothing aims
 // the camera and the object counts as centred while it is in view. With `until_centered`, it
-// fails (`invalid_goal`)
-// when every base turn it asked for has been refused for 2 s (the object will not be centred
-// from where the robot stands), and (`tracking_error`) when it is not centred after 20 s.
+// fails (`invalid_goal`) when every base turn it asked for has been refused for 2 s (the object
+// will not be centred from where the robot stands), and (`tracking_error`) when it is not
+// centred after 20 s.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
