@@ -191,7 +191,8 @@ TEST(CheckRobot, ARobotWithoutATorsoChainPassesTheLintAndPicksUpTheCup) {
 }
 
 // A robot whose head camera is fixed to its trunk (no neck joints) has no `head` chain: it
-// loads, passes the lint, and fixate, explore and pickup aim the camera with the base.
+// loads, passes the lint, and fixate, explore and pickup aim the camera with the base; an
+// explore told to keep the base still says why it stops after one look.
 TEST(CheckRobot, ARobotWithAFixedHeadCameraTracksExploresAndPicksUpWithItsBase) {
   ScratchRoot root;
   copy_minibot(root, "fixedcam");
@@ -215,9 +216,19 @@ TEST(CheckRobot, ARobotWithAFixedHeadCameraTracksExploresAndPicksUpWithItsBase) 
         "program: explore\nparams: {surface: side_surface, coverage: 0.9, cell_m: 0.05}\n" +
             common + "time_limit_s: 60\n"},
        {"pickup", "program: pickup\nparams: {object: cup}\n" + common +
-                      "time_limit_s: 40\nsuccess: grasping(cup)\n"}});
+                      "time_limit_s: 40\nsuccess: grasping(cup)\n"},
+       // Neither a head nor the base to aim with: one look, and the reason it stops there.
+       {"explore_in_place",
+        "program: explore\nparams: {surface: side_surface, coverage: 0.9, cell_m: 0.05, "
+        "base: false}\n" +
+            common + "time_limit_s: 60\n"}});
   const CommandResult r = run_cli("check-robot fixedcam --env kitchen --jobs 1", root.path());
-  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.out.find("Programs: 3 of 4 succeeded."), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| explore_in_place | coverage_short |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("nothing aims the camera (the robot has no head chain; base: false)"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("Lint: 0 errors"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("fixed to the trunk (no head chain)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| fixate | success |"), std::string::npos) << r.out;
