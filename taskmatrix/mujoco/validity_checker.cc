@@ -77,6 +77,12 @@ void collide_whole_model(const mjModel* m, mjData* d, const std::vector<Attachme
   mj_collision(m, d);
 }
 
+// A contact the narrow phase reports counts unless the pair may touch (`tolerance` > 0) and it
+// is no deeper than that.
+bool counts_as_contact(double dist, double tolerance) {
+  return tolerance <= 0 || dist < -tolerance;
+}
+
 }  // namespace
 
 int collide_geoms(const mjModel* m, mjData* d, const GeomPair& p, double margin, mjContact* out,
@@ -462,7 +468,7 @@ void ValidityChecker::note_static_contact(const GeomPair& p, double tolerance) {
   // In contact as pair_in_contact judges it, keeping the deepest penetration.
   const int n = collide(p, p.margin);
   for (int i = 0; i < n; ++i) {
-    if (tolerance > 0 && scratch_[i].dist >= -tolerance) continue;
+    if (!counts_as_contact(scratch_[i].dist, tolerance)) continue;
     static_collision_ = true;
     static_depth_m_ = std::max(static_depth_m_, -scratch_[i].dist);
   }
@@ -474,7 +480,7 @@ bool ValidityChecker::pair_in_contact(const GeomPair& p, double tolerance) {
   const int n = collide(p, p.margin);
   if (tolerance <= 0) return n > 0;
   for (int i = 0; i < n; ++i) {
-    if (scratch_[i].dist < -tolerance) return true;
+    if (counts_as_contact(scratch_[i].dist, tolerance)) return true;
   }
   return false;
 }

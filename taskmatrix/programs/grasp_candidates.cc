@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 namespace taskmatrix::programs {
 
@@ -166,6 +167,7 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
     return pose_in_palm(config, body).position;
   };
   double lo = INFINITY, hi = -INFINITY, depth = 0, reach = 0;
+  std::optional<double> palm_depth;  // asked of the skillset once, for the first sliding finger
   // The closing in steps of kSweepStepRad of the joint that turns most per step: each joint
   // moves towards the fist by the same angle until it gets there.
   double widest = 0;
@@ -195,7 +197,8 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
     const bool slides =
         root_open.orientation.angularDistance(root_closed.orientation) < kSlideTurnRad &&
         (root_closed.position - root_open.position).norm() > kSlideMinM;
-    depth += slides ? skills.palm_depth(hand.side) : -base.dot(g.approach);
+    if (slides && !palm_depth) palm_depth = skills.palm_depth(hand.side);
+    depth += slides ? *palm_depth : -base.dot(g.approach);
     reach += in_palm(closed, f.bodies.back()).dot(g.approach);
     // The open finger, about straight: its segments' origins and its tip, estimated from the
     // segment before the last. (Closing, the fingers curl towards the object and stop on it.)

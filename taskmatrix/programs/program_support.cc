@@ -72,8 +72,8 @@ ChainValues mirrored(const core::Skillset& skills, const ChainValues& v) {
 ChainValues posture_values(const core::Skillset& skills, const std::string& posture,
                            const std::vector<std::string>& only_chains) {
   const core::Posture& p = skills.posture(posture);
-  // A chain a robot may lack (a rigid torso has no chain) is left out when it lacks it; a list
-  // of nothing else asks for nothing.
+  // A chain a robot may lack (core::kOptionalChains: a rigid torso, a camera fixed to the
+  // trunk) is left out when it lacks it; a list of nothing else asks for nothing.
   std::vector<std::string> only;
   for (const std::string& c : only_chains) {
     const bool optional = std::find(core::kOptionalChains.begin(), core::kOptionalChains.end(),
