@@ -2,12 +2,18 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include <tinyxml2.h>
 
@@ -174,6 +180,115 @@ std::string effective_angle(const XMLElement* root) {
   return angle ? angle : "degree";
 }
 
+// The numbers of an attribute, scaled by `factor` from index `first` on, written back.
+void scale_numbers(XMLElement* e, const char* attribute, const char* value, double factor,
+                   size_t first, const MjcfSource& src) {
+  std::vector<double> numbers;
+  const char* p = value;
+  while (true) {
+    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') ++p;
+    if (!*p) break;
+    char* end = nullptr;
+    const double v = std::strtod(p, &end);
+    if (end == p || !std::isfinite(v)) {
+      throw InputError(src.file, std::string(e->Name()) + "." + attribute,
+                       "'" + std::string(value) + "' is not a list of numbers", e->GetLineNum());
+    }
+    numbers.push_back(v);
+    p = end;
+  }
+  std::string out;
+  for (size_t i = 0; i < numbers.size(); ++i) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", i >= first ? numbers[i] * factor : numbers[i]);
+    out += (i ? " " : "") + std::string(buf);
+  }
+  e->SetAttribute(attribute, out.c_str());
+}
+
+// A file in degrees (MJCF's default) rewritten in radians, as MuJoCo's compiler converts it:
+// orientations (`euler`, the angle of `axisangle`) on every element, and a hinge or ball
+// joint's `range` (a hinge's `ref` and `springref` too), wherever the joint takes them from:
+// its own attributes or its class's defaults (`class`, the bodies' `childclass`, the nesting
+// of <default>), written onto the joint itself so that a slide joint sharing those defaults
+// keeps its metres. What MuJoCo leaves as written stays so (an actuator's `ctrlrange`, a
+// joint's `margin`, a camera's `fovy`, which is always degrees).
+void degrees_to_radians(XMLElement* root, const MjcfSource& src) {
+  constexpr double kToRadians = M_PI / 180.0;
+  // class -> (parent class, its <joint> defaults)
+  std::map<std::string, std::pair<std::string, const XMLElement*>> classes;
+  std::function<void(const XMLElement*, const std::string&)> collect_defaults =
+      [&](const XMLElement* d, const std::string& parent) {
+        const char* name = d->Attribute("class");
+        const std::string cls = name ? name : "main";
+        classes[cls] = {parent, d->FirstChildElement("joint")};
+        for (const XMLElement* c = d->FirstChildElement("default"); c;
+             c = c->NextSiblingElement("default")) {
+          collect_defaults(c, cls);
+        }
+      };
+  for (const XMLElement* d = root->FirstChildElement("default"); d;
+       d = d->NextSiblingElement("default")) {
+    collect_defaults(d, "");
+  }
+  auto joint_attribute = [&](const XMLElement* joint, const std::string& cls,
+                             const char* name) -> const char* {
+    if (const char* own = joint->Attribute(name)) return own;
+    for (std::string c = cls; !c.empty();) {
+      const auto it = classes.find(c);
+      if (it == classes.end()) break;
+      if (it->second.second) {
+        if (const char* v = it->second.second->Attribute(name)) return v;
+      }
+      c = it->second.first;
+    }
+    return nullptr;
+  };
+  std::function<void(XMLElement*, const std::string&)> convert = [&](XMLElement* e,
+                                                                     const std::string& cls) {
+    if (const char* euler = e->Attribute("euler"))
+      scale_numbers(e, "euler", euler, kToRadians, 0, src);
+    if (const char* aa = e->Attribute("axisangle"))
+      scale_numbers(e, "axisangle", aa, kToRadians, 3, src);
+    const std::string_view name = e->Name();
+    std::string child_class = cls;
+    if (name == "body") {
+      if (const char* c = e->Attribute("childclass")) child_class = c;
+    }
+    if (name == "joint" && cls != "<default>") {
+      const char* own_class = e->Attribute("class");
+      const std::string joint_class = own_class ? own_class : cls;
+      const char* type = joint_attribute(e, joint_class, "type");
+      const std::string kind = type ? type : "hinge";
+      for (const char* attribute : {"range", "ref", "springref"}) {
+        const bool angular =
+            kind == "hinge" || (kind == "ball" && std::strcmp(attribute, "range") == 0);
+        if (!angular) continue;
+        if (const char* value = joint_attribute(e, joint_class, attribute)) {
+          const std::string copy = value;  // the default's text, not to be rewritten in place
+          scale_numbers(e, attribute, copy.c_str(), kToRadians, 0, src);
+        }
+      }
+    }
+    for (XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      convert(c, name == "default" || cls == "<default>" ? std::string("<default>") : child_class);
+    }
+  };
+  for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    if (std::strcmp(e->Name(), "default") == 0) {
+      convert(e, "<default>");  // orientations only; joints take their values above
+    } else {
+      convert(e, "main");
+    }
+  }
+  XMLElement* compiler = root->FirstChildElement("compiler");
+  if (!compiler) {
+    compiler = root->GetDocument()->NewElement("compiler");
+    root->InsertFirstChild(compiler);
+  }
+  compiler->SetAttribute("angle", "radian");
+}
+
 }  // namespace
 
 std::string obstacle_body_name(int slot) { return "tm_obstacle_" + std::to_string(slot); }
@@ -190,12 +305,16 @@ std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& enviro
   resolve_asset_files(robot_doc.RootElement(), robot);
   resolve_asset_files(env_doc.RootElement(), environment);
 
-  const std::string robot_angle = effective_angle(robot_doc.RootElement());
-  const std::string env_angle = effective_angle(env_doc.RootElement());
-  if (robot_angle != env_angle) {
-    throw InputError(robot.file, "compiler.angle",
-                     "is '" + robot_angle + "' but " + environment.file + " uses '" + env_angle +
-                         "' (unset means MuJoCo's default, degree); they must agree");
+  // Both files in radians: one in degrees (MJCF's default: a public model without
+  // <compiler angle>) is converted, so that the two compose; any other unit is refused.
+  for (auto [doc, src] : {std::pair{&robot_doc, &robot}, std::pair{&env_doc, &environment}}) {
+    const std::string angle = effective_angle(doc->RootElement());
+    if (angle == "degree") {
+      degrees_to_radians(doc->RootElement(), *src);
+    } else if (angle != "radian") {
+      throw InputError(src->file, "compiler.angle",
+                       "is '" + angle + "'; MJCF's angle units are 'degree' or 'radian'");
+    }
   }
 
   Composer composer;

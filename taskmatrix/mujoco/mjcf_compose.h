@@ -1,7 +1,10 @@
 // Composes one robot MJCF and one environment MJCF into a single scene MJCF, plus the
 // reserved obstacle slots whose pose and size are written per layout into a model copy
 // (never recompiled). Section by section:
-//   compiler   attributes merged; a conflicting value (angle included) is an error
+//   compiler   attributes merged; a conflicting value is an error. A file in degrees
+//              (MJCF's default unit) is first rewritten in radians as MuJoCo's compiler
+//              would convert it (orientations, hinge and ball ranges, hinge ref and
+//              springref, also where they come from class defaults)
 //   option, size, visual, statistic
 //              attributes merged recursively, the environment's value wins a conflict
 //   default    nested classes appended; both files setting the same top-level default

@@ -12,7 +12,9 @@
 //                               in_view(target) holds); tracking stops and the arm is lowered.
 //                               Where the base cannot turn to the target or the arms cannot
 //                               come down to rest, it steps back from the nearest surface
-//                               (retreat) and tries once more (lowering the torso's bend too)
+//                               (retreat), lowers the arms, and tries once more (lowering the
+//                               torso's bend too); a target that leaves the view while the arm
+//                               rises or waves is found again and waved at once more
 //   vacuum   tool, surface      Fig. 4: pickup the tool; position its tip over the nearest
 //                               debris while any is known; putdown the tool on the surface
 #include "taskmatrix/core/state_machine.h"
@@ -165,16 +167,22 @@ MachineSpec greet() {
       {"posture", "rest"}, {"chains", "[torso, " + limbs + "]"}, {"skip_busy", "true"}};
   const core::RawParams step_back = {{"part", "base"}, {"distance", "0.25"}};
   const core::RawParams find = {{"object", "$target"}, {"until_centered", "true"}};
-  m.states = {state("find", "fixate", find),
-              state("make_room", "retreat", step_back),
-              state("find_again", "fixate", find),
-              state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
-                    "in_view($target)"),
-              state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
-              state("lower", "postural", lower),
-              state("make_room_to_lower", "retreat", step_back),
-              state("lower_again", "postural", lower_with_torso),
-              final_state("greeted", true)};
+  m.states = {
+      state("find", "fixate", find), state("make_room", "retreat", step_back),
+      // An arm left out over the furniture (after a putdown) sweeps into it as the
+      // base turns: the arms come down (and a bent torso up) before finding again.
+      state("tuck", "postural", lower_with_torso), state("find_again", "fixate", find),
+      state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
+            "in_view($target)"),
+      state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
+      // The target walked out of view while the arm rose or waved: find it again
+      // (the base turning too) and wave once more.
+      state("find_raised", "fixate", find),
+      state("raise_again", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
+            "in_view($target)"),
+      state("wave_again", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
+      state("lower", "postural", lower), state("make_room_to_lower", "retreat", step_back),
+      state("lower_again", "postural", lower_with_torso), final_state("greeted", true)};
   m.initial = "find";
   m.transitions = {on_completed("find", "raise"),
                    on_completed("find_again", "raise"),
@@ -182,13 +190,26 @@ MachineSpec greet() {
                    on_completed("wave", "lower"),
                    on_completed("lower", "greeted"),
                    on_failed("find", "make_room"),
-                   on_completed("make_room", "find_again"),
+                   on_completed("make_room", "tuck"),
+                   on_completed("tuck", "find_again"),
+                   on_failed("tuck", "find_again"),
                    on_failed("lower", "make_room_to_lower"),
                    on_completed("make_room_to_lower", "lower_again"),
-                   on_completed("lower_again", "greeted")};
-  m.transitions[0].start = {"track"};
-  m.transitions[1].start = {"track"};
-  m.transitions[3].stop = {"track"};
+                   on_completed("lower_again", "greeted"),
+                   on_failed("raise", "find_raised"),
+                   on_failed("wave", "find_raised"),
+                   on_completed("find_raised", "raise_again"),
+                   on_completed("raise_again", "wave_again"),
+                   on_completed("wave_again", "lower")};
+  for (MachineTransition& t : m.transitions) {
+    // Tracking (the head alone) runs from the target found to the wave's end.
+    if (t.on == MessageType::kCompleted && (t.to == "raise" || t.to == "raise_again")) {
+      t.start = {"track"};
+    }
+    if ((t.on == MessageType::kCompleted && t.from.find("wave") == 0) || t.to == "find_raised") {
+      t.stop = {"track"};
+    }
+  }
   return m;
 }
 

@@ -1,12 +1,17 @@
 // retreat: makes room. With `part: base` the robot steps back from a surface (or object): the
 // base moves `distance` horizontally away from the nearest point of its box, keeping its
 // heading, so that later arm motions (lowering the arms after a wave, a reach) are not made
-// against the furniture. With `part: hand` the arm withdraws its hand `distance` straight back
-// against the hand's approach axis (lifting what it holds straight up instead), as after a
-// grasp that did not hold, before the next one is reached for.
+// against the furniture; where that way is taken, it steps in a direction turned from it. With
+// `part: hand` the arm withdraws its hand `distance` straight back against the hand's approach axis
+// (lifting what it holds straight up instead), as after a grasp that did not hold, before the next
+// one is reached for.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
+#include <string>
+
+#include <Eigen/Geometry>
 
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
@@ -26,7 +31,8 @@ class Retreat final : public core::TaskProgram {
   }
 
   std::vector<std::string> chains(const core::Skillset&) const override {
-    if (part_ == "base") return {"base"};
+    // The base, and the arms a hand close to something withdraws first.
+    if (part_ == "base") return {"base", arm_of("left"), arm_of("right")};
     return {arm_of(side_ == "any" ? "left" : side_)};
   }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
@@ -58,16 +64,43 @@ class Retreat final : public core::TaskProgram {
       motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
       return;
     }
+    failure_ = step_base(ctx);
+  }
+
+  core::ProgramState step(core::ProgramContext& ctx) override {
+    if (failure_) return fail(*failure_);
+    if (done_) return core::ProgramState::kCompleted;
+    const std::optional<Ended> result = motion_.step();
+    if (!result) return core::ProgramState::kRunning;
+    if (withdrawing_) {
+      // A hand has withdrawn (or stopped short, touching something on the way: it went as
+      // far as it could): now the base.
+      withdrawing_ = false;
+      failure_ = step_base(ctx);
+      return failure_ ? fail(*failure_) : core::ProgramState::kRunning;
+    }
+    if (*result) return fail(**result);
+    return core::ProgramState::kCompleted;
+  }
+
+ private:
+  // Starts the base's step away from `from`, or first a hand's withdrawal; why neither can.
+  // Straight away first. Where that goal is taken or the way there blocked (a counter beside
+  // the table it steps back from, the corner of another), directions turned from it in steps
+  // of 30 degrees up to 90 either way, nearest first. A direction whose straight step is clear
+  // is planned to at once; where none is, a hand close to something (fingers round what a
+  // putdown has just let go of) withdraws first, each hand once, and then the directions are
+  // planned to in turn, at most kPlans of them (each plan's work is bounded by iterations).
+  std::optional<core::Failure> step_base(core::ProgramContext& ctx) {
     core::Skillset& skills = ctx.skills();
     const std::vector<double> base = skills.configuration({"base"});
     const Eigen::Vector2d at(base[0], base[1]);
     const core::PerceivedObject* from = away_from(ctx, at);
     if (!from) {
-      failure_ = from_.empty()
-                     ? core::Failure(core::FailureCode::kPerceptionMiss, "no surface is known")
-                     : core::Failure(core::FailureCode::kPerceptionMiss,
-                                     "'" + from_ + "' is not in the perceptual model");
-      return;
+      return from_.empty()
+                 ? core::Failure(core::FailureCode::kPerceptionMiss, "no surface is known")
+                 : core::Failure(core::FailureCode::kPerceptionMiss,
+                                 "'" + from_ + "' is not in the perceptual model");
     }
     const Eigen::Vector2d lo = from->box.min().head<2>(), hi = from->box.max().head<2>();
     const Eigen::Vector2d nearest = at.cwiseMax(lo).cwiseMin(hi);
@@ -75,29 +108,65 @@ class Retreat final : public core::TaskProgram {
     if (away.norm() < 1e-6) away = at - 0.5 * (lo + hi);
     if (away.norm() < 1e-6) away = Eigen::Vector2d(-std::cos(base[2]), -std::sin(base[2]));
     away.normalize();
-    std::vector<double> goal = base;
-    goal[0] += distance_ * away.x();
-    goal[1] += distance_ * away.y();
-    const core::ChainInfo& chain = skills.chain("base");
-    for (size_t i = 0; i < goal.size(); ++i)
-      goal[i] = std::clamp(goal[i], chain.lower[i], chain.upper[i]);
     // What it steps away from, and what a hand rests against (the object it has just set
     // down), it may brush as it leaves.
     motion_.execution.may_touch = {from->id};
     for (const char* side : {"left", "right"}) motion_.allow_touching(touched_by_arm(ctx, side));
-    failure_ = motion_.plan_to_configuration(ctx, {"base"}, goal);
+
+    const core::ChainInfo& chain = skills.chain("base");
+    std::vector<std::vector<double>> goals;  // collision-free, nearest to straight away first
+    for (const double turn : {0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0}) {
+      const Eigen::Vector2d way = Eigen::Rotation2Dd(turn * M_PI / 6) * away;
+      std::vector<double> goal = base;
+      goal[0] += distance_ * way.x();
+      goal[1] += distance_ * way.y();
+      for (size_t i = 0; i < goal.size(); ++i)
+        goal[i] = std::clamp(goal[i], chain.lower[i], chain.upper[i]);
+      if (skills.is_valid({"base"}, goal)) goals.push_back(std::move(goal));
+    }
+    const std::string where = " (stepping " + std::to_string(distance_).substr(0, 4) +
+                              " m away from '" + from->id + "', " + std::to_string(goals.size()) +
+                              " of 7 directions within 90 degrees of straight away free";
+    if (goals.empty()) {
+      return core::Failure(core::FailureCode::kInvalidGoal,
+                           "the goal configuration is in collision" + where + ")");
+    }
+    auto straight_clear = [&](const std::vector<double>& goal) {
+      const int checks = std::max(1, static_cast<int>(std::ceil(distance_ / kStraightCheck)));
+      std::vector<double> q = base;
+      for (int k = 1; k < checks; ++k) {
+        for (size_t i = 0; i < q.size(); ++i) q[i] = base[i] + k * (goal[i] - base[i]) / checks;
+        if (!skills.is_valid({"base"}, q)) return false;
+      }
+      return true;
+    };
+    for (const std::vector<double>& goal : goals) {
+      if (straight_clear(goal)) return motion_.plan_to_configuration(ctx, {"base"}, goal);
+    }
+    for (const char* side : {"left", "right"}) {
+      const std::string arm = arm_of(side);
+      if (withdrawn_.count(side)) continue;
+      withdrawn_.insert(side);
+      if (skills.clearance({arm}, skills.configuration({arm}), kNear) >= kNear) continue;
+      std::optional<Escape> escape =
+          escape_motion(ctx, side, touched_by_arm(ctx, side), kWithdrawal, /*always=*/true);
+      if (!escape) continue;
+      withdrawing_ = true;
+      motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
+      return std::nullopt;
+    }
+    std::optional<core::Failure> first;
+    int planned = 0;
+    for (const std::vector<double>& goal : goals) {
+      std::optional<core::Failure> failure = motion_.plan_to_configuration(ctx, {"base"}, goal);
+      if (!failure) return std::nullopt;  // following
+      if (!first) first = std::move(failure);
+      if (++planned == kPlans) break;
+    }
+    first->detail += where + ", " + std::to_string(planned) + " planned)";
+    return first;
   }
 
-  core::ProgramState step(core::ProgramContext&) override {
-    if (failure_) return fail(*failure_);
-    if (done_) return core::ProgramState::kCompleted;
-    const std::optional<Ended> result = motion_.step();
-    if (!result) return core::ProgramState::kRunning;
-    if (*result) return fail(**result);
-    return core::ProgramState::kCompleted;
-  }
-
- private:
   // `from`, or the surface nearest to the base.
   const core::PerceivedObject* away_from(core::ProgramContext& ctx, const Eigen::Vector2d& at) {
     if (!from_.empty()) return ctx.percepts().find(from_);
@@ -112,11 +181,18 @@ class Retreat final : public core::TaskProgram {
     return best;
   }
 
+  static constexpr int kPlans = 3;
+  static constexpr double kStraightCheck = 0.01;  // m between the straight step's checks
+  static constexpr double kNear = 0.02;           // m: a hand this close to something withdraws
+  static constexpr double kWithdrawal = 0.08;     // m, against the hand's approach axis
+
   std::string part_, from_, side_;
   double distance_ = 0.2;
   MotionStage motion_;
   std::optional<core::Failure> failure_;
   bool done_ = false;
+  bool withdrawing_ = false;
+  std::set<std::string> withdrawn_;  // sides whose hand has had its chance to withdraw
 };
 
 }  // namespace

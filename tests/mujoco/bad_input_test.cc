@@ -200,10 +200,10 @@ std::vector<BadInputCase> cases() {
                    "{name: table_top, x: [0.36, 0.40], y: [-0.54, -0.50], z: 0.65}");
        },
        {"environment.yaml", "obstacle_regions", "could place only"}},
-      {"EnvironmentAnglesDisagree",
+      {"EnvironmentAngleUnitUnknown",
        "minibot",
-       [](const ScratchRoot& r) { r.replace(kEnvMjcf, "angle=\"radian\"", "angle=\"degree\""); },
-       {"compiler.angle"}},
+       [](const ScratchRoot& r) { r.replace(kEnvMjcf, "angle=\"radian\"", "angle=\"grad\""); },
+       {"kitchen.xml", "'grad'", "compiler"}},
   };
 }
 

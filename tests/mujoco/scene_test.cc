@@ -6,9 +6,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 
+#include "taskmatrix/mujoco/mjcf_compose.h"
+#include "taskmatrix/mujoco/mujoco_handles.h"
 #include "tests/test_support.h"
 
 namespace taskmatrix::mujoco {
@@ -298,6 +301,84 @@ TEST(Robots, MeshFilesAreFoundBesideTheRobotsModelMjcfAndUrdf) {
                "</collision>\n    <collision name=\"HeadNeck\">");
   auto from_urdf = Scene::load(robots / "meshy_urdf", kitchen);
   EXPECT_EQ(from_urdf->model()->nmesh, 1);
+}
+
+// MJCF's default angle unit is degrees, and public models often leave it so. A robot file in
+// degrees composes with a room in radians, and compiles to what MuJoCo makes of the file alone:
+// orientations, hinge and ball ranges, a hinge's ref and springref, from its own attributes
+// or from class defaults (a slide joint sharing them keeps its metres); an actuator's
+// ctrlrange and a joint's margin stay as written, as MuJoCo leaves them.
+TEST(Robots, AModelInDegreesComposesAsMuJoCoCompilesItAlone) {
+  const std::string robot = R"(<mujoco model="deg">
+  <compiler angle="degree" autolimits="true"/>
+  <default>
+    <joint range="-90 45" damping="1"/>
+    <default class="arm"><joint ref="10" springref="20" range="-30 120"/></default>
+    <default class="rail"><joint type="slide" range="0 0.4"/></default>
+  </default>
+  <worldbody>
+    <body name="trunk" pos="3 3 1" euler="0 0 90" childclass="arm">
+      <joint name="shoulder" axis="0 1 0"/>
+      <joint name="elbow" class="main" axis="1 0 0" margin="5"/>
+      <geom name="trunk_box" type="box" size="0.1 0.1 0.1" euler="10 20 30"/>
+      <site name="tip" pos="0 0 0.2" axisangle="0 0 1 45"/>
+      <body name="slider" pos="0 0 0.3">
+        <joint name="lift" class="rail" axis="0 0 1"/>
+        <geom name="slider_box" type="box" size="0.05 0.05 0.05"/>
+        <body name="ball_link" pos="0 0 0.2" axisangle="1 0 0 30">
+          <joint name="wrist" type="ball" range="0 60"/>
+          <geom name="ball_geom" size="0.03"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><position name="shoulder" joint="shoulder" ctrlrange="-0.5 2"/></actuator>
+</mujoco>
+)";
+  const std::filesystem::path env_file =
+      test::catalog().root() / "models" / "environments" / "kitchen" / "kitchen.xml";
+  std::ifstream in(env_file);
+  const std::string env((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string scene =
+      compose_scene_mjcf({robot, "deg.xml"}, {env, env_file.string()}, CompositionOptions{});
+  ModelPtr composed = compile_mjcf_text(scene, "composed");
+  ModelPtr alone = compile_mjcf_text(robot, "deg.xml");
+  const mjModel* a = alone.get();
+  const mjModel* c = composed.get();
+  for (const char* name : {"shoulder", "elbow", "lift", "wrist"}) {
+    const int ja = mj_name2id(a, mjOBJ_JOINT, name), jc = mj_name2id(c, mjOBJ_JOINT, name);
+    ASSERT_GE(ja, 0);
+    ASSERT_GE(jc, 0) << name;
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_NEAR(c->jnt_range[2 * jc + k], a->jnt_range[2 * ja + k], 1e-12) << name;
+    }
+    EXPECT_NEAR(c->jnt_margin[jc], a->jnt_margin[ja], 1e-12) << name;
+    const int qa = a->jnt_qposadr[ja], qc = c->jnt_qposadr[jc];
+    EXPECT_NEAR(c->qpos0[qc], a->qpos0[qa], 1e-12) << name;
+    EXPECT_NEAR(c->qpos_spring[qc], a->qpos_spring[qa], 1e-12) << name;
+  }
+  EXPECT_NEAR(c->jnt_range[2 * mj_name2id(c, mjOBJ_JOINT, "shoulder") + 1], 120 * M_PI / 180,
+              1e-12);
+  EXPECT_NEAR(c->jnt_range[2 * mj_name2id(c, mjOBJ_JOINT, "lift") + 1], 0.4, 1e-12);
+  auto same_quat = [](const mjtNum* x, const mjtNum* y) {
+    return std::abs(x[0] - y[0]) + std::abs(x[1] - y[1]) + std::abs(x[2] - y[2]) +
+               std::abs(x[3] - y[3]) <
+           1e-12;
+  };
+  for (const char* name : {"trunk", "ball_link"}) {
+    const int ba = mj_name2id(a, mjOBJ_BODY, name), bc = mj_name2id(c, mjOBJ_BODY, name);
+    ASSERT_GE(bc, 0) << name;
+    EXPECT_TRUE(same_quat(c->body_quat + 4 * bc, a->body_quat + 4 * ba)) << name;
+  }
+  const int ga = mj_name2id(a, mjOBJ_GEOM, "trunk_box"),
+            gc = mj_name2id(c, mjOBJ_GEOM, "trunk_box");
+  EXPECT_TRUE(same_quat(c->geom_quat + 4 * gc, a->geom_quat + 4 * ga));
+  const int sa = mj_name2id(a, mjOBJ_SITE, "tip"), sc = mj_name2id(c, mjOBJ_SITE, "tip");
+  EXPECT_TRUE(same_quat(c->site_quat + 4 * sc, a->site_quat + 4 * sa));
+  const int ua = mj_name2id(a, mjOBJ_ACTUATOR, "shoulder"),
+            uc = mj_name2id(c, mjOBJ_ACTUATOR, "shoulder");
+  EXPECT_EQ(c->actuator_ctrlrange[2 * uc + 1], a->actuator_ctrlrange[2 * ua + 1]);
+  EXPECT_EQ(c->actuator_ctrlrange[2 * uc + 1], 2.0);
 }
 
 }  // namespace
