@@ -7,7 +7,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <set>
 #include <string>
@@ -86,6 +88,10 @@ class Composer {
         }
       } else if (name == "default") {
         merge_default(src, e);
+      } else if (name == "keyframe") {
+        // A model's stored poses (a public model's "home"): their qpos sizes do not survive
+        // composition, and a trial starts from the profile's rest posture anyway.
+        continue;
       } else {
         throw InputError(src.file, std::string(name),
                          "element <" + std::string(name) +
@@ -135,6 +141,50 @@ class Composer {
   XMLDocument out_;
   XMLElement* root_;
 };
+
+// <include file="..."/> replaced by the children of the named file's <mujoco> root, as MuJoCo
+// does (a path relative to the including model's folder; included files may include others,
+// up to a depth that catches a file including itself).
+void inline_includes(XMLElement* parent, const MjcfSource& src, int depth = 0) {
+  namespace fs = std::filesystem;
+  for (XMLElement* e = parent->FirstChildElement(); e;) {
+    XMLElement* next = e->NextSiblingElement();
+    if (std::strcmp(e->Name(), "include") != 0) {
+      inline_includes(e, src, depth);
+      e = next;
+      continue;
+    }
+    const char* file = e->Attribute("file");
+    if (!file || !*file) {
+      throw InputError(src.file, "include.file", "an <include> must name a file", e->GetLineNum());
+    }
+    const fs::path path = fs::path(file).is_absolute()
+                              ? fs::path(file)
+                              : fs::absolute(fs::path(src.file)).parent_path() / file;
+    if (depth >= 8) {
+      throw InputError(
+          src.file, "include.file",
+          "includes nest more than 8 deep (does '" + std::string(file) + "' include itself?)",
+          e->GetLineNum());
+    }
+    std::ifstream in(path);
+    if (!in) {
+      throw InputError(src.file, "include.file", "cannot read '" + path.string() + "'",
+                       e->GetLineNum());
+    }
+    const MjcfSource included{std::string(std::istreambuf_iterator<char>(in), {}), path.string()};
+    XMLDocument doc;
+    parse(doc, included);
+    inline_includes(doc.RootElement(), included, depth + 1);
+    XMLNode* after = e;  // the copies go where the <include> was, in order
+    for (const XMLElement* c = doc.RootElement()->FirstChildElement(); c;
+         c = c->NextSiblingElement()) {
+      after = parent->InsertAfterChild(after, c->DeepClone(parent->GetDocument()));
+    }
+    parent->DeleteChild(e);
+    e = next;
+  }
+}
 
 // Asset files (meshes, height fields, skins, textures) are named relative to their model
 // file's folder and the compiler's meshdir, texturedir or assetdir; the composed scene
@@ -302,6 +352,8 @@ std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& enviro
   XMLDocument robot_doc, env_doc;
   parse(robot_doc, robot);
   parse(env_doc, environment);
+  inline_includes(robot_doc.RootElement(), robot);
+  inline_includes(env_doc.RootElement(), environment);
   resolve_asset_files(robot_doc.RootElement(), robot);
   resolve_asset_files(env_doc.RootElement(), environment);
 

@@ -11,8 +11,10 @@
 //              element (<default><geom .../>) is an error (use a named class)
 //   asset, worldbody, actuator, sensor, contact, equality, tendon, custom
 //              children appended, robot first
-//   include, keyframe
-//              rejected: paths and qpos sizes do not survive composition
+//   include    replaced by the named file's children first, as MuJoCo does (relative to
+//              the including file's folder)
+//   keyframe   dropped: qpos sizes do not survive composition (a trial starts from the
+//              profile's rest posture)
 // Asset files (mesh, hfield, skin, texture) named relative to a source's folder and its
 // compiler's meshdir/texturedir/assetdir become absolute paths, and those attributes go:
 // each file's assets load as they would from the file alone.

@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "taskmatrix/core/input_error.h"
 #include "taskmatrix/mujoco/mjcf_compose.h"
 #include "taskmatrix/mujoco/mujoco_handles.h"
 #include "tests/test_support.h"
@@ -379,6 +380,45 @@ TEST(Robots, AModelInDegreesComposesAsMuJoCoCompilesItAlone) {
             uc = mj_name2id(c, mjOBJ_ACTUATOR, "shoulder");
   EXPECT_EQ(c->actuator_ctrlrange[2 * uc + 1], a->actuator_ctrlrange[2 * ua + 1]);
   EXPECT_EQ(c->actuator_ctrlrange[2 * uc + 1], 2.0);
+}
+
+// Public models split their files (<include>) and store poses (<keyframe>): a minibot copy
+// with its actuators in an included file and a "home" keyframe composes as minibot does; an
+// include of a missing file names the including file and the key.
+TEST(Robots, IncludedFilesAndKeyframesOfAPublicModelCompose) {
+  test::ScratchRoot root;
+  const std::filesystem::path robots = root.path() / "models" / "robots";
+  const std::filesystem::path kitchen = root.path() / "models" / "environments" / "kitchen";
+  std::filesystem::copy(robots / "minibot", robots / "split");
+  std::filesystem::remove(robots / "split" / "minibot.urdf");
+  const std::string xml = "models/robots/split/minibot.xml";
+  const std::string text = root.read(xml);
+  const size_t from = text.find("  <actuator>"), to = text.find("</actuator>");
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  std::filesystem::create_directories(robots / "split" / "parts");
+  root.write("models/robots/split/parts/actuators.xml",
+             "<mujoco>\n" + text.substr(from, to + 11 - from) + "\n</mujoco>\n");
+  root.write(xml, text.substr(0, from) +
+                      "  <include file=\"parts/actuators.xml\"/>\n"
+                      "  <keyframe><key name=\"home\" time=\"0\"/></keyframe>\n" +
+                      text.substr(to + 11));
+  root.replace("models/robots/split/profile.yaml", "name: minibot", "name: split");
+  auto split = Scene::load(robots / "split", kitchen);
+  auto original = Scene::load(robots / "minibot", kitchen);
+  EXPECT_EQ(split->model()->nu, original->model()->nu);
+  EXPECT_GT(split->model()->nu, 20);
+  EXPECT_EQ(split->model()->nkey, 0);
+  root.replace(xml, "parts/actuators.xml", "parts/missing.xml");
+  try {
+    Scene::load(robots / "split", kitchen);
+    ADD_FAILURE() << "an include of a missing file loaded";
+  } catch (const core::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("minibot.xml"), std::string::npos) << what;
+    EXPECT_NE(what.find("include"), std::string::npos) << what;
+    EXPECT_NE(what.find("missing.xml"), std::string::npos) << what;
+  }
 }
 
 }  // namespace
