@@ -69,7 +69,19 @@ class Explore final : public core::TaskProgram {
   }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
     base_ = use_base_;
-    return head_claim(ctx, base_);
+    std::vector<std::string> out = head_claim(ctx, base_);
+    // A torso an earlier program left bent (a putdown bends it over the table) points the
+    // head camera at the floor: the viewpoints bring it back to its rest posture too.
+    torso_rest_.clear();
+    if (base_ && ctx.skills.profile().find_chain("torso") && !ctx.busy("torso")) {
+      const std::vector<double> rest = posture_values(ctx.skills, "rest", {"torso"}).values;
+      const std::vector<double> now = ctx.skills.configuration({"torso"});
+      for (size_t i = 0; i < rest.size() && i < now.size(); ++i) {
+        if (std::abs(rest[i] - now[i]) > kBentTorso) torso_rest_ = rest;
+      }
+      if (!torso_rest_.empty()) out.insert(out.end() - 1, "torso");
+    }
+    return out;
   }
 
   void start(core::ProgramContext& ctx) override {
@@ -90,6 +102,7 @@ class Explore final : public core::TaskProgram {
     missed_.assign(observed_.size(), 0);
     start_time_ = ctx.time();
     chains_ = head_chains(ctx.skills());
+    if (!torso_rest_.empty()) chains_.push_back("torso");
     if (base_) chains_.push_back("base");
     scan(ctx);
     if (chains_.empty()) {
@@ -218,7 +231,21 @@ class Explore final : public core::TaskProgram {
     // Without a head the base does all the aiming: turns all the way round, each also from
     // 0.3 m back along the new heading (a fixed camera sees nothing close below it).
     std::vector<double> turns{0.0}, backs{0.0};
-    if (base_ && has_head) turns = {0.0, -0.5, 0.5, -1.0, 1.0};
+    if (base_ && has_head) {
+      turns = {0.0, -0.5, 0.5, -1.0, 1.0};
+      // A region beside or behind the robot (after a putdown on another surface): the turn
+      // that faces its centre, and half a radian either side of it.
+      if (now.size() >= n + 3) {
+        const std::vector<double> b(now.end() - 3, now.end());
+        const double facing = std::remainder(std::atan2(0.5 * (region_.y0 + region_.y1) - b[1],
+                                                        0.5 * (region_.x0 + region_.x1) - b[0]) -
+                                                 b[2],
+                                             2 * M_PI);
+        if (std::abs(facing) > 1.0) {
+          for (double t : {facing, facing - 0.5, facing + 0.5}) turns.push_back(t);
+        }
+      }
+    }
     if (base_ && !has_head) {
       for (int k = 1; k <= 6; ++k) {
         turns.push_back(-0.5 * k);
@@ -231,10 +258,16 @@ class Explore final : public core::TaskProgram {
       for (double turn : turns) {
         for (const auto& hq : heads) {
           std::vector<double> v = hq;
+          v.insert(v.end(), torso_rest_.begin(), torso_rest_.end());
           if (base) {
-            std::vector<double> b(now.begin() + static_cast<long>(n), now.end());
+            std::vector<double> b(now.begin() + static_cast<long>(n + torso_rest_.size()),
+                                  now.end());
             if (b.size() != 3) continue;
             b[2] += turn;
+            // Past a limit of a yaw whose range spans a full turn: the same heading the other
+            // way round.
+            if (b[2] > base->upper[2] && b[2] - 2 * M_PI >= base->lower[2]) b[2] -= 2 * M_PI;
+            if (b[2] < base->lower[2] && b[2] + 2 * M_PI <= base->upper[2]) b[2] += 2 * M_PI;
             if (b[2] < base->lower[2] || b[2] > base->upper[2]) continue;
             b[0] -= back * std::cos(b[2]);
             b[1] -= back * std::sin(b[2]);
@@ -342,6 +375,9 @@ class Explore final : public core::TaskProgram {
   std::vector<std::string> bounds_;
   double cell_, target_, time_limit_;
   bool use_base_, base_ = false;
+  // The torso's rest posture where explore straightens it (empty: the torso is not moved).
+  std::vector<double> torso_rest_;
+  static constexpr double kBentTorso = 0.05;  // rad from rest: a torso left bent
   double column_m_ = 0.5;
   Region region_{};
   int nx_ = 1, ny_ = 1;

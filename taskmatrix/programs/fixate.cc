@@ -33,6 +33,9 @@ namespace {
 constexpr double kCenteredHold = 0.3;  // s the object must stay centred for until_centered
 // With until_centered: s of refused base turns, the object not centred, before fixate fails.
 constexpr double kBlockedS = 2.0;
+// How far past a full-turn yaw's limit a heading may be and still be turned to the limit (the
+// neck takes up the rest) rather than reached the other way round, rad.
+constexpr double kAroundMargin = 0.15;
 // With until_centered: s after which an object never centred fails fixate.
 constexpr double kSeekLimitS = 20.0;
 // How far (rad, any joint) the head's goal moves before it is checked for collision again.
@@ -107,11 +110,14 @@ class Fixate final : public core::TaskProgram {
     if (has_head_) goal = step_head(skills, target, dt);
 
     // What the head cannot take up: the object's horizontal angle from the camera at the
-    // head's goal. The base turns it away when it may.
-    const double residual = view_angles(has_head_ ? skills.frame_pose_at({"head"}, goal, camera_)
-                                                  : skills.frame_pose(camera_),
-                                        target)
-                                .x();
+    // head's goal (where the head stopped short of it, at the head as it is: an arm raised
+    // beside the head, a chest below it). The base turns it away when it may.
+    const double residual =
+        view_angles(has_head_
+                        ? skills.frame_pose_at({"head"}, head_blocked_ ? head_ : goal, camera_)
+                        : skills.frame_pose(camera_),
+                    target)
+            .x();
     const bool head_there = max_difference(goal, head_) < 0.01;
     // Nothing aims the camera (no head chain, the base not free): keeping the object in view
     // is the best there is.
@@ -125,11 +131,22 @@ class Fixate final : public core::TaskProgram {
         // The heading that takes up the residual (+x right: turn left for -x). A yaw joint
         // whose range spans a full turn reaches a heading past one of its limits the other way
         // round (a robot that starts facing -x at the limit of a [-pi, pi] yaw).
+        // A heading past the limit by no more than the neck (or the tolerance) takes up is
+        // turned to the limit instead; once going round, it keeps going while the heading
+        // is past the limit at all (a target just past it, moving or seen from a lagging
+        // base, would otherwise flip the direction back and forth).
         double wanted = -residual;
         const double heading = base_cmd_[2] + wanted;
         const bool full_turn = base.upper[2] - base.lower[2] >= 2 * M_PI - 1e-3;
-        if (full_turn && heading > base.upper[2]) wanted -= 2 * M_PI;
-        if (full_turn && heading < base.lower[2]) wanted += 2 * M_PI;
+        const double past =
+            full_turn ? std::max(heading - base.upper[2], base.lower[2] - heading) : 0.0;
+        const double margin = has_head_ ? kAroundMargin : tolerance_ / 2;
+        if (past > (going_round_ ? 0.0 : margin)) {
+          going_round_ = true;
+          wanted += heading > base.upper[2] ? -2 * M_PI : 2 * M_PI;
+        } else if (past <= 0) {
+          going_round_ = false;
+        }
         const double turn = std::clamp(wanted, -step, step);
         std::vector<double> turned = base_cmd_;
         turned[2] = std::clamp(base_cmd_[2] + turn, base.lower[2], base.upper[2]);
@@ -212,7 +229,8 @@ class Fixate final : public core::TaskProgram {
       checked_goal_ = goal;
       goal_clear_ = clear(goal);
     }
-    if (next != head_ && (goal_clear_ || clear(next))) head_ = next;
+    head_blocked_ = next != head_ && !(goal_clear_ || clear(next));
+    if (next != head_ && !head_blocked_) head_ = next;
     skills.command({"head"}, head_);
     return goal;
   }
@@ -256,8 +274,10 @@ class Fixate final : public core::TaskProgram {
   // The head goal last checked for collision, and whether it was clear.
   std::vector<double> checked_goal_;
   bool goal_clear_ = false;
+  bool head_blocked_ = false;  // the last head step towards its goal was not taken
   double start_time_ = 0, centered_since_ = -1;
   double blocked_since_ = -1;     // since when each base turn asked for was refused
+  bool going_round_ = false;      // turning the other way round past the yaw's limit
   double best_error_ = INFINITY;  // rad, the nearest the object came to the optical axis
   std::optional<core::Failure> failure_;
 };

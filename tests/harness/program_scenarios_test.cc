@@ -453,6 +453,97 @@ success: in_view(visitor)
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
 }
 
+// explore looked only within a radian of where the base faced and never moved the torso: a
+// robot facing away from the surface, its torso left bent (after a putdown elsewhere in a
+// task), saw at most a quarter of it (atlas: `coverage_short ... no viewpoint shows a cell not
+// yet observed`). Viewpoints now also face the region's centre, and bring a bent torso back
+// to its rest posture.
+TEST(ExploreBehindTheRobot, TurnsToTheSurfaceAndStraightensABentTorso) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  test::ScratchRoot root;
+  root.write("explore.yaml", R"(doc: explore the work surface behind the robot, its torso bent
+setup:
+  - {program: postural, params: {posture: bow}}
+program: explore
+params: {surface: work_surface, coverage: 0.8}
+robots: [atlas]
+environments: [kitchen, office]
+obstacles: {count: 8}
+robot_start: {x: 0.0, y: 0.0, yaw: 2.8}
+layout_seed: 3
+seed: 1
+trials: 1
+time_limit_s: 60
+)");
+  const test::CommandResult r =
+      test::run_cli("run " + (root.path() / "explore.yaml").string() +
+                        " --jobs 1 --progress off --out " + (root.path() / "run").string(),
+                    root.path());
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string trials = root.read("run/trials.jsonl");
+  std::size_t successes = 0;
+  for (std::size_t at = trials.find("\"status\":\"success\""); at != std::string::npos;
+       at = trials.find("\"status\":\"success\"", at + 1)) {
+    ++successes;
+  }
+  EXPECT_EQ(successes, 2u) << trials.substr(0, 3000);
+}
+
+// The chores task (scenarios/tasks/chores.yaml): after looking the work surface over, tallbot
+// turned to find the visitor behind it with its right arm folded up beside its head, so its
+// neck could not turn; fixate went on counting on the neck's goal, and the visitor's heading,
+// just past the base yaw's limit, sent the base the other way round and back every few
+// seconds: not centred after 20 s (kitchen, layout 503). A blocked neck now leaves the whole
+// turn to the base, and once going round the base keeps going.
+TEST(FixateWithABlockedNeck, TheBaseTakesUpTheWholeTurnAndKeepsItsDirection) {
+  test::ScratchRoot root;
+  root.write("chores.yaml", R"(doc: vacuum, move the cup, look the work surface over, greet
+machine:
+  name: chores
+  doc: clean, tidy, check, greet
+  initial: clean
+  states:
+    clean: {program: vacuum, params: {}}
+    take_cup: {program: pickup, params: {object: cup}}
+    place_cup: {program: putdown, params: {object: cup, surface: side_surface}}
+    look: {program: explore, params: {surface: work_surface, coverage: 0.8}}
+    wave: {program: greet, params: {target: visitor}}
+    done: {final: success}
+  transitions:
+    - {from: clean, on: completed, to: take_cup}
+    - {from: take_cup, on: completed, to: place_cup}
+    - {from: place_cup, on: completed, to: look}
+    - {from: look, on: completed, to: wave}
+    - {from: wave, on: completed, to: done}
+robots: [tallbot]
+environments: [kitchen]
+obstacles: {count: 8}
+objects:
+  vacuum: {on: work_surface, yaw: [-0.5, 0.5]}
+  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
+surfaces:
+  work_surface: {height_m: [0.62, 0.78]}
+robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
+layout_seed: 500
+seed: 1
+trials: 4
+visitor: {walk_speed: 0.3}
+time_limit_s: 240
+success: all_of(above(cup, side_surface), not(exists(debris)), in_view(visitor))
+)");
+  const test::CommandResult r = test::run_cli(
+      "run " + (root.path() / "chores.yaml").string() +
+          " --only chores.tallbot.kitchen.RRTConnect.l503.s4 --jobs 1 --progress off --out " +
+          (root.path() / "run").string(),
+      root.path());
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string trials = root.read("run/trials.jsonl");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+  EXPECT_NE(trials.find("\"program\":\"explore\",\"t\""), std::string::npos);
+}
+
 // Lifting a held tool off the table before a plan: atlas's arm could not keep the hand's
 // orientation exactly, and the nearest solution tipped the vacuum about the grip, pushing its
 // battery 6 mm into the table, so the next plan started in collision.
