@@ -277,10 +277,18 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     goal_index_of_state.push_back(static_cast<int>(k));
   }
   if (goal_index_of_state.empty()) {
+    // What the (first) goal touches, as for a start in collision; a goal outside the limits
+    // says so instead.
+    std::string what = "outside the joint limits";
+    if (within(goals.front())) {
+      checker.in_collision(goals.front().data(), /*count=*/false);
+      what = describe_robot_contacts(scene_, m, d, attachments_);
+    }
     restore();
-    return fail(core::PlanStatus::kInvalidGoal, goals.size() == 1
-                                                    ? "the goal configuration is in collision"
-                                                    : "every goal configuration is in collision");
+    return fail(core::PlanStatus::kInvalidGoal,
+                (goals.size() == 1 ? "the goal configuration is in collision: "
+                                   : "every goal configuration is in collision (the first: ") +
+                    what + (goals.size() == 1 ? "" : ")"));
   }
 
   const std::uint64_t checks_before = checker.checks() + (touching ? touching->checks() : 0);

@@ -79,6 +79,17 @@ class Retreat final : public core::TaskProgram {
       failure_ = step_base(ctx);
       return failure_ ? fail(*failure_) : core::ProgramState::kRunning;
     }
+    if (*result && (*result)->code == core::FailureCode::kTrackingError && part_ == "base") {
+      // Held back short of its goal (a hand dragging on what it rests against): room made is
+      // room made, if the base got at least half the way.
+      const std::vector<double> base = ctx.skills().configuration({"base"});
+      const double moved = (Eigen::Vector2d(base[0], base[1]) - stepped_from_).norm();
+      if (moved >= 0.5 * distance_) return core::ProgramState::kCompleted;
+      core::Failure short_of = **result;
+      short_of.detail += " (the base moved " + std::to_string(moved).substr(0, 5) + " m of " +
+                         std::to_string(distance_).substr(0, 4) + ")";
+      return fail(short_of);
+    }
     if (*result) return fail(**result);
     return core::ProgramState::kCompleted;
   }
@@ -95,6 +106,7 @@ class Retreat final : public core::TaskProgram {
     core::Skillset& skills = ctx.skills();
     const std::vector<double> base = skills.configuration({"base"});
     const Eigen::Vector2d at(base[0], base[1]);
+    stepped_from_ = at;
     const core::PerceivedObject* from = away_from(ctx, at);
     if (!from) {
       return from_.empty()
@@ -167,16 +179,24 @@ class Retreat final : public core::TaskProgram {
     return first;
   }
 
-  // `from`, or the surface nearest to the base.
+  // `from`, or the surface nearest to the base or a hand.
   const core::PerceivedObject* away_from(core::ProgramContext& ctx, const Eigen::Vector2d& at) {
     if (!from_.empty()) return ctx.percepts().find(from_);
+    // Nearest to the base or to a hand (seen from above): a hand out over a surface is what
+    // the arms' later motions would meet.
+    std::vector<Eigen::Vector2d> points = {at};
+    for (const core::HandSpec& hand : ctx.skills().profile().hands) {
+      points.push_back(ctx.skills().frame_pose(hand.palm).position.head<2>());
+    }
     const core::PerceivedObject* best = nullptr;
     double best_d = std::numeric_limits<double>::infinity();
     for (const core::PerceivedObject* s : ctx.percepts().of_type("surface")) {
-      const Eigen::Vector2d nearest =
-          at.cwiseMax(s->box.min().head<2>()).cwiseMin(s->box.max().head<2>());
-      const double d = (at - nearest).norm();
-      if (d < best_d) best_d = d, best = s;
+      for (const Eigen::Vector2d& p : points) {
+        const Eigen::Vector2d nearest =
+            p.cwiseMax(s->box.min().head<2>()).cwiseMin(s->box.max().head<2>());
+        const double d = (p - nearest).norm();
+        if (d < best_d) best_d = d, best = s;
+      }
     }
     return best;
   }
@@ -192,6 +212,7 @@ class Retreat final : public core::TaskProgram {
   std::optional<core::Failure> failure_;
   bool done_ = false;
   bool withdrawing_ = false;
+  Eigen::Vector2d stepped_from_ = Eigen::Vector2d::Zero();  // the base where its step began
   std::set<std::string> withdrawn_;  // sides whose hand has had its chance to withdraw
 };
 

@@ -491,15 +491,13 @@ time_limit_s: 60
   EXPECT_EQ(successes, 2u) << trials.substr(0, 3000);
 }
 
-// The chores task (scenarios/tasks/chores.yaml): after looking the work surface over, tallbot
-// turned to find the visitor behind it with its right arm folded up beside its head, so its
-// neck could not turn; fixate went on counting on the neck's goal, and the visitor's heading,
-// just past the base yaw's limit, sent the base the other way round and back every few
-// seconds: not centred after 20 s (kitchen, layout 503). A blocked neck now leaves the whole
-// turn to the base, and once going round the base keeps going.
-TEST(FixateWithABlockedNeck, TheBaseTakesUpTheWholeTurnAndKeepsItsDirection) {
+// Runs one trial of the chores task (as scenarios/tasks/chores.yaml: vacuum the work surface,
+// carry the cup to the side surface, look the work surface over, greet) for `robot` in
+// `environment`; its trials.jsonl.
+std::string run_chores_trial(const std::string& robot, const std::string& environment,
+                             const std::string& trial_id) {
   test::ScratchRoot root;
-  root.write("chores.yaml", R"(doc: vacuum, move the cup, look the work surface over, greet
+  const std::string task = R"(doc: vacuum, move the cup, look the work surface over, greet
 machine:
   name: chores
   doc: clean, tidy, check, greet
@@ -517,8 +515,6 @@ machine:
     - {from: place_cup, on: completed, to: look}
     - {from: look, on: completed, to: wave}
     - {from: wave, on: completed, to: done}
-robots: [tallbot]
-environments: [kitchen]
 obstacles: {count: 8}
 objects:
   vacuum: {on: work_surface, yaw: [-0.5, 0.5]}
@@ -532,16 +528,41 @@ trials: 4
 visitor: {walk_speed: 0.3}
 time_limit_s: 240
 success: all_of(above(cup, side_surface), not(exists(debris)), in_view(visitor))
-)");
-  const test::CommandResult r = test::run_cli(
-      "run " + (root.path() / "chores.yaml").string() +
-          " --only chores.tallbot.kitchen.RRTConnect.l503.s4 --jobs 1 --progress off --out " +
-          (root.path() / "run").string(),
-      root.path());
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const std::string trials = root.read("run/trials.jsonl");
+)";
+  root.write("chores.yaml",
+             task + "robots: [" + robot + "]\nenvironments: [" + environment + "]\n");
+  const test::CommandResult r =
+      test::run_cli("run " + (root.path() / "chores.yaml").string() + " --only " + trial_id +
+                        " --jobs 1 --progress off --out " + (root.path() / "run").string(),
+                    root.path());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  return root.read("run/trials.jsonl");
+}
+
+// The chores task (scenarios/tasks/chores.yaml): after looking the work surface over, tallbot
+// turned to find the visitor behind it with its right arm folded up beside its head, so its
+// neck could not turn; fixate went on counting on the neck's goal, and the visitor's heading,
+// just past the base yaw's limit, sent the base the other way round and back every few
+// seconds: not centred after 20 s (kitchen, layout 503). A blocked neck now leaves the whole
+// turn to the base, and once going round the base keeps going.
+TEST(FixateWithABlockedNeck, TheBaseTakesUpTheWholeTurnAndKeepsItsDirection) {
+  const std::string trials =
+      run_chores_trial("tallbot", "kitchen", "chores.tallbot.kitchen.RRTConnect.l503.s4");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   EXPECT_NE(trials.find("\"program\":\"explore\",\"t\""), std::string::npos);
+}
+
+// Lowering its arms after the wave, tallbot's left hand came down into the desk it had just
+// looked over (office, layout 501: `invalid_goal: the goal configuration is in collision:
+// desk_top touches l_palm ...`): greet had stepped back from the side table, the surface
+// nearest its base, so the rest posture stayed in collision. retreat now steps away from the
+// surface nearest the base or a hand.
+TEST(GreetAfterLookingTheDeskOver, StepsBackFromTheSurfaceItsHandIsOver) {
+  const std::string trials =
+      run_chores_trial("tallbot", "office", "chores.tallbot.office.RRTConnect.l501.s2");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+  EXPECT_NE(trials.find("\"program\":\"retreat\",\"t\""), std::string::npos)
+      << "not the case described: " << trials.substr(0, 2000);
 }
 
 // Lifting a held tool off the table before a plan: atlas's arm could not keep the hand's

@@ -293,6 +293,11 @@ TEST_P(SkillsetOnBothRobots, GoalInCollisionIsInvalidGoal) {
   options.time_limit_s = 2;
   const core::PlanResult r = skills().plan_to_configuration(chains, colliding, options);
   EXPECT_EQ(r.status, core::PlanStatus::kInvalidGoal) << r.message;
+  // It says what the goal touches, as a start in collision does: "A touches B (depth ...)".
+  EXPECT_NE(r.message.find("the goal configuration is in collision: "), std::string::npos)
+      << r.message;
+  EXPECT_NE(r.message.find(" touches "), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("mm)"), std::string::npos) << r.message;
 }
 
 TEST_P(SkillsetOnBothRobots, NanAndOutOfLimitInputsAreRejectedWithTheJointNamed) {
