@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <iterator>
 #include <regex>
 #include <stdexcept>
@@ -317,50 +318,29 @@ TEST(GreetOnAtlas, TheBaseTurnsOnlyWhereNothingIsSweptIntoTheTable) {
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
 }
 
-// Runs one trial of the tidy task (as scenarios/tasks/tidy.yaml: the cup and the juice box
-// carried to the side surface, then greet) for `robot` in `environment`; its trials.jsonl.
-std::string run_tidy_trial(const std::string& robot, const std::string& environment,
-                           const std::string& trial_id) {
+// Runs one trial of a task of scenarios/tasks/ (tidy.yaml, chores.yaml) for `robot` in
+// `environment` (the task file's own robots and environments replaced); its trials.jsonl.
+std::string run_task_trial(const std::string& task, const std::string& robot,
+                           const std::string& environment, const std::string& trial_id) {
   test::ScratchRoot root;
-  const std::string task = R"(doc: tidy onto the side surface, then greet
-machine:
-  name: tidy
-  doc: carry the cup and the juice box to the side surface, then wave at the visitor
-  initial: take_cup
-  states:
-    take_cup: {program: pickup, params: {object: cup}}
-    place_cup: {program: putdown, params: {object: cup, surface: side_surface}}
-    take_box: {program: pickup, params: {object: box}}
-    place_box: {program: putdown, params: {object: box, surface: side_surface}}
-    wave: {program: greet, params: {target: visitor}}
-    done: {final: success}
-  transitions:
-    - {from: take_cup, on: completed, to: place_cup}
-    - {from: place_cup, on: completed, to: take_box}
-    - {from: take_box, on: completed, to: place_box}
-    - {from: place_box, on: completed, to: wave}
-    - {from: wave, on: completed, to: done}
-obstacles: {count: 8}
-objects:
-  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
-  box: {on: work_surface, yaw: [-3.14159, 3.14159]}
-surfaces:
-  work_surface: {height_m: [0.60, 0.80]}
-robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
-layout_seed: 200
-seed: 1
-trials: 8
-visitor: {walk_speed: 0.4}
-time_limit_s: 200
-success: all_of(above(cup, side_surface), above(box, side_surface), in_view(visitor))
-)";
-  root.write("tidy.yaml", task + "robots: [" + robot + "]\nenvironments: [" + environment + "]\n");
+  std::ifstream in(std::filesystem::path(TASKMATRIX_TEST_ROOT) / "scenarios" / "tasks" / task);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_FALSE(text.empty()) << task;
+  text = std::regex_replace(text, std::regex("\n(robots|environments): [^\n]*"), "");
+  root.write(task, text + "robots: [" + robot + "]\nenvironments: [" + environment + "]\n");
   const test::CommandResult r =
-      test::run_cli("run " + (root.path() / "tidy.yaml").string() + " --only " + trial_id +
+      test::run_cli("run " + (root.path() / task).string() + " --only " + trial_id +
                         " --jobs 1 --progress off --out " + (root.path() / "run").string(),
                     root.path());
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   return root.read("run/trials.jsonl");
+}
+
+// The trial succeeded, and `program` ran in it (the case the test describes).
+void expect_success_running(const std::string& trials, const std::string& program) {
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+  EXPECT_NE(trials.find("\"program\":\"" + program + "\",\"t\""), std::string::npos)
+      << "not the case described: " << trials.substr(0, 2000);
 }
 
 // A task the programs were not written for, as a user writes it: carry the cup and the juice
@@ -375,7 +355,7 @@ TEST(GreetAfterAPutdown, StepsBackWhenTheBaseCannotTurnOrTheArmsCannotComeDown) 
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
   const std::string trials =
-      run_tidy_trial("atlas", "kitchen", "tidy.atlas.kitchen.RRTConnect.l207.s8");
+      run_task_trial("tidy.yaml", "atlas", "kitchen", "tidy.atlas.kitchen.RRTConnect.l207.s8");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   EXPECT_NE(trials.find("the base cannot turn towards 'visitor'"), std::string::npos)
       << "not the case described: " << trials.substr(0, 2000);
@@ -391,10 +371,8 @@ TEST(GreetAfterAPutdown, AHandRoundWhatItSetDownWithdrawsBeforeTheRobotStepsBack
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
   const std::string trials =
-      run_tidy_trial("atlas", "office", "tidy.atlas.office.RRTConnect.l202.s3");
-  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
-  EXPECT_NE(trials.find("\"program\":\"retreat\",\"t\""), std::string::npos)
-      << "not the case described: " << trials.substr(0, 2000);
+      run_task_trial("tidy.yaml", "atlas", "office", "tidy.atlas.office.RRTConnect.l202.s3");
+  expect_success_running(trials, "retreat");
 }
 
 // After stepping back, minibot's arm still lay out over the counter where it had set the juice
@@ -402,10 +380,8 @@ TEST(GreetAfterAPutdown, AHandRoundWhatItSetDownWithdrawsBeforeTheRobotStepsBack
 // after 20 s (kitchen, layout 201). greet now brings the arms down before finding again.
 TEST(GreetAfterAPutdown, TheArmsComeDownBeforeTheBaseTurnsToTheVisitorAgain) {
   const std::string trials =
-      run_tidy_trial("minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l201.s2");
-  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
-  EXPECT_NE(trials.find("\"program\":\"retreat\",\"t\""), std::string::npos)
-      << "not the case described: " << trials.substr(0, 2000);
+      run_task_trial("tidy.yaml", "minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l201.s2");
+  expect_success_running(trials, "retreat");
 }
 
 // The walking visitor left minibot's view while it waved (office, layout 204): the wave's
@@ -413,7 +389,7 @@ TEST(GreetAfterAPutdown, TheArmsComeDownBeforeTheBaseTurnsToTheVisitorAgain) {
 // raises the arm and waves once more.
 TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
   const std::string trials =
-      run_tidy_trial("minibot", "office", "tidy.minibot.office.RRTConnect.l204.s5");
+      run_task_trial("tidy.yaml", "minibot", "office", "tidy.minibot.office.RRTConnect.l204.s5");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   const std::regex halted("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"halted\"");
   const std::regex completed("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"completed\"");
@@ -491,54 +467,6 @@ time_limit_s: 60
   EXPECT_EQ(successes, 2u) << trials.substr(0, 3000);
 }
 
-// Runs one trial of the chores task (as scenarios/tasks/chores.yaml: vacuum the work surface,
-// carry the cup to the side surface, look the work surface over, greet) for `robot` in
-// `environment`; its trials.jsonl.
-std::string run_chores_trial(const std::string& robot, const std::string& environment,
-                             const std::string& trial_id) {
-  test::ScratchRoot root;
-  const std::string task = R"(doc: vacuum, move the cup, look the work surface over, greet
-machine:
-  name: chores
-  doc: clean, tidy, check, greet
-  initial: clean
-  states:
-    clean: {program: vacuum, params: {}}
-    take_cup: {program: pickup, params: {object: cup}}
-    place_cup: {program: putdown, params: {object: cup, surface: side_surface}}
-    look: {program: explore, params: {surface: work_surface, coverage: 0.8}}
-    wave: {program: greet, params: {target: visitor}}
-    done: {final: success}
-  transitions:
-    - {from: clean, on: completed, to: take_cup}
-    - {from: take_cup, on: completed, to: place_cup}
-    - {from: place_cup, on: completed, to: look}
-    - {from: look, on: completed, to: wave}
-    - {from: wave, on: completed, to: done}
-obstacles: {count: 8}
-objects:
-  vacuum: {on: work_surface, yaw: [-0.5, 0.5]}
-  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
-surfaces:
-  work_surface: {height_m: [0.62, 0.78]}
-robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
-layout_seed: 500
-seed: 1
-trials: 4
-visitor: {walk_speed: 0.3}
-time_limit_s: 240
-success: all_of(above(cup, side_surface), not(exists(debris)), in_view(visitor))
-)";
-  root.write("chores.yaml",
-             task + "robots: [" + robot + "]\nenvironments: [" + environment + "]\n");
-  const test::CommandResult r =
-      test::run_cli("run " + (root.path() / "chores.yaml").string() + " --only " + trial_id +
-                        " --jobs 1 --progress off --out " + (root.path() / "run").string(),
-                    root.path());
-  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  return root.read("run/trials.jsonl");
-}
-
 // The chores task (scenarios/tasks/chores.yaml): after looking the work surface over, tallbot
 // turned to find the visitor behind it with its right arm folded up beside its head, so its
 // neck could not turn; fixate went on counting on the neck's goal, and the visitor's heading,
@@ -546,10 +474,9 @@ success: all_of(above(cup, side_surface), not(exists(debris)), in_view(visitor))
 // seconds: not centred after 20 s (kitchen, layout 503). A blocked neck now leaves the whole
 // turn to the base, and once going round the base keeps going.
 TEST(FixateWithABlockedNeck, TheBaseTakesUpTheWholeTurnAndKeepsItsDirection) {
-  const std::string trials =
-      run_chores_trial("tallbot", "kitchen", "chores.tallbot.kitchen.RRTConnect.l503.s4");
-  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
-  EXPECT_NE(trials.find("\"program\":\"explore\",\"t\""), std::string::npos);
+  const std::string trials = run_task_trial("chores.yaml", "tallbot", "kitchen",
+                                            "chores.tallbot.kitchen.RRTConnect.l503.s4");
+  expect_success_running(trials, "explore");
 }
 
 // Lowering its arms after the wave, tallbot's left hand came down into the desk it had just
@@ -558,11 +485,9 @@ TEST(FixateWithABlockedNeck, TheBaseTakesUpTheWholeTurnAndKeepsItsDirection) {
 // nearest its base, so the rest posture stayed in collision. retreat now steps away from the
 // surface nearest the base or a hand.
 TEST(GreetAfterLookingTheDeskOver, StepsBackFromTheSurfaceItsHandIsOver) {
-  const std::string trials =
-      run_chores_trial("tallbot", "office", "chores.tallbot.office.RRTConnect.l501.s2");
-  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
-  EXPECT_NE(trials.find("\"program\":\"retreat\",\"t\""), std::string::npos)
-      << "not the case described: " << trials.substr(0, 2000);
+  const std::string trials = run_task_trial("chores.yaml", "tallbot", "office",
+                                            "chores.tallbot.office.RRTConnect.l501.s2");
+  expect_success_running(trials, "retreat");
 }
 
 // Lifting a held tool off the table before a plan: atlas's arm could not keep the hand's

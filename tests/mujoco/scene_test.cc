@@ -257,6 +257,14 @@ void write_box_stl(const std::filesystem::path& file) {
   }
 }
 
+// A copy of minibot (MJCF only) in the scratch root's robots, named `name`.
+void copy_minibot(const test::ScratchRoot& root, const std::string& name) {
+  const std::filesystem::path robots = root.path() / "models" / "robots";
+  std::filesystem::copy(robots / "minibot", robots / name);
+  std::filesystem::remove(robots / name / "minibot.urdf");
+  root.replace("models/robots/" + name + "/profile.yaml", "name: minibot", "name: " + name);
+}
+
 // Public humanoid models come with mesh files beside them, named relative to the model's
 // folder and its compiler's meshdir (MJCF), or as package:// URIs found through meshdir
 // (URDF). The composed scene compiles from memory: the files must still be found, and the
@@ -266,8 +274,7 @@ TEST(Robots, MeshFilesAreFoundBesideTheRobotsModelMjcfAndUrdf) {
   const std::filesystem::path robots = root.path() / "models" / "robots";
   const std::filesystem::path kitchen = root.path() / "models" / "environments" / "kitchen";
   // MJCF: meshdir="parts", the visor a colliding mesh on the head.
-  std::filesystem::copy(robots / "minibot", robots / "meshy");
-  std::filesystem::remove(robots / "meshy" / "minibot.urdf");
+  copy_minibot(root, "meshy");
   write_box_stl(robots / "meshy" / "parts" / "visor.stl");
   const std::string xml = "models/robots/meshy/minibot.xml";
   root.replace(xml, "<compiler ", "<compiler meshdir=\"parts\" ");
@@ -276,7 +283,6 @@ TEST(Robots, MeshFilesAreFoundBesideTheRobotsModelMjcfAndUrdf) {
   root.replace(xml, "<geom name=\"HeadSkull\"",
                "<geom name=\"Visor\" type=\"mesh\" mesh=\"visor\" pos=\"0.07 0 0.14\"/>"
                "<geom name=\"HeadSkull\"");
-  root.replace("models/robots/meshy/profile.yaml", "name: minibot", "name: meshy");
   auto mjcf = Scene::load(robots / "meshy", kitchen);
   const mjModel* m = mjcf->model();
   ASSERT_EQ(m->nmesh, 1);
@@ -389,8 +395,7 @@ TEST(Robots, IncludedFilesAndKeyframesOfAPublicModelCompose) {
   test::ScratchRoot root;
   const std::filesystem::path robots = root.path() / "models" / "robots";
   const std::filesystem::path kitchen = root.path() / "models" / "environments" / "kitchen";
-  std::filesystem::copy(robots / "minibot", robots / "split");
-  std::filesystem::remove(robots / "split" / "minibot.urdf");
+  copy_minibot(root, "split");
   const std::string xml = "models/robots/split/minibot.xml";
   const std::string text = root.read(xml);
   const size_t from = text.find("  <actuator>"), to = text.find("</actuator>");
@@ -403,7 +408,6 @@ TEST(Robots, IncludedFilesAndKeyframesOfAPublicModelCompose) {
                       "  <include file=\"parts/actuators.xml\"/>\n"
                       "  <keyframe><key name=\"home\" time=\"0\"/></keyframe>\n" +
                       text.substr(to + 11));
-  root.replace("models/robots/split/profile.yaml", "name: minibot", "name: split");
   auto split = Scene::load(robots / "split", kitchen);
   auto original = Scene::load(robots / "minibot", kitchen);
   EXPECT_EQ(split->model()->nu, original->model()->nu);
