@@ -305,7 +305,9 @@ void degrees_to_radians(XMLElement* root, const MjcfSource& src) {
     if (name == "body") {
       if (const char* c = e->Attribute("childclass")) child_class = c;
     }
-    if (name == "joint" && cls != "<default>") {
+    // A body's joint; a <joint> in <equality> or a fixed <tendon> names a joint, it is not one.
+    const bool outside_bodies = cls.front() == '<';
+    if (name == "joint" && !outside_bodies) {
       const char* own_class = e->Attribute("class");
       const std::string joint_class = own_class ? own_class : cls;
       const char* type = joint_attribute(e, joint_class, "type");
@@ -321,15 +323,13 @@ void degrees_to_radians(XMLElement* root, const MjcfSource& src) {
       }
     }
     for (XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
-      convert(c, name == "default" || cls == "<default>" ? std::string("<default>") : child_class);
+      convert(c, outside_bodies ? cls : child_class);
     }
   };
+  // Joints take their values in <worldbody>; elsewhere (<default> included: a joint takes its
+  // class's values above) only orientations are converted.
   for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    if (std::strcmp(e->Name(), "default") == 0) {
-      convert(e, "<default>");  // orientations only; joints take their values above
-    } else {
-      convert(e, "main");
-    }
+    convert(e, std::strcmp(e->Name(), "worldbody") == 0 ? "main" : "<outside bodies>");
   }
   XMLElement* compiler = root->FirstChildElement("compiler");
   if (!compiler) {

@@ -314,7 +314,8 @@ TEST(Robots, MeshFilesAreFoundBesideTheRobotsModelMjcfAndUrdf) {
 // degrees composes with a room in radians, and compiles to what MuJoCo makes of the file alone:
 // orientations, hinge and ball ranges, a hinge's ref and springref, from its own attributes
 // or from class defaults (a slide joint sharing them keeps its metres); an actuator's
-// ctrlrange and a joint's margin stay as written, as MuJoCo leaves them.
+// ctrlrange and a joint's margin stay as written, as MuJoCo leaves them; the <joint> elements
+// of an equality and a fixed tendon name joints and are left alone.
 TEST(Robots, AModelInDegreesComposesAsMuJoCoCompilesItAlone) {
   const std::string robot = R"(<mujoco model="deg">
   <compiler angle="degree" autolimits="true"/>
@@ -340,6 +341,8 @@ TEST(Robots, AModelInDegreesComposesAsMuJoCoCompilesItAlone) {
     </body>
   </worldbody>
   <actuator><position name="shoulder" joint="shoulder" ctrlrange="-0.5 2"/></actuator>
+  <equality><joint joint1="elbow" joint2="shoulder" polycoef="0 1 0 0 0"/></equality>
+  <tendon><fixed name="pair"><joint joint="elbow" coef="1"/><joint joint="shoulder" coef="1"/></fixed></tendon>
 </mujoco>
 )";
   const std::filesystem::path env_file =
