@@ -167,22 +167,21 @@ MachineSpec greet() {
       {"posture", "rest"}, {"chains", "[torso, " + limbs + "]"}, {"skip_busy", "true"}};
   const core::RawParams step_back = {{"part", "base"}, {"distance", "0.25"}};
   const core::RawParams find = {{"object", "$target"}, {"until_centered", "true"}};
-  m.states = {
-      state("find", "fixate", find), state("make_room", "retreat", step_back),
-      // An arm left out over the furniture (after a putdown) sweeps into it as the
-      // base turns: the arms come down (and a bent torso up) before finding again.
-      state("tuck", "postural", lower_with_torso), state("find_again", "fixate", find),
-      state("raise", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
-            "in_view($target)"),
-      state("wave", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
-      // The target walked out of view while the arm rose or waved: find it again
-      // (the base turning too) and wave once more.
-      state("find_raised", "fixate", find),
-      state("raise_again", "postural", {{"posture", "wave_start"}, {"side", "$side"}},
-            "in_view($target)"),
-      state("wave_again", "canned", {{"motion", "wave"}, {"side", "$side"}}, "in_view($target)"),
-      state("lower", "postural", lower), state("make_room_to_lower", "retreat", step_back),
-      state("lower_again", "postural", lower_with_torso), final_state("greeted", true)};
+  const core::RawParams raise = {{"posture", "wave_start"}, {"side", "$side"}};
+  const core::RawParams wave = {{"motion", "wave"}, {"side", "$side"}};
+  const std::string in_view = "in_view($target)";
+  m.states = {state("find", "fixate", find), state("make_room", "retreat", step_back),
+              // An arm left out over the furniture (after a putdown) sweeps into it as the
+              // base turns: the arms come down (and a bent torso up) before finding again.
+              state("tuck", "postural", lower_with_torso), state("find_again", "fixate", find),
+              state("raise", "postural", raise, in_view), state("wave", "canned", wave, in_view),
+              // The target walked out of view while the arm rose or waved: find it again
+              // (the base turning too) and wave once more.
+              state("find_raised", "fixate", find),
+              state("raise_again", "postural", raise, in_view),
+              state("wave_again", "canned", wave, in_view), state("lower", "postural", lower),
+              state("make_room_to_lower", "retreat", step_back),
+              state("lower_again", "postural", lower_with_torso), final_state("greeted", true)};
   m.initial = "find";
   m.transitions = {on_completed("find", "raise"),
                    on_completed("find_again", "raise"),

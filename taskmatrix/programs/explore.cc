@@ -75,11 +75,10 @@ class Explore final : public core::TaskProgram {
     torso_rest_.clear();
     if (base_ && ctx.skills.profile().find_chain("torso") && !ctx.busy("torso")) {
       const std::vector<double> rest = posture_values(ctx.skills, "rest", {"torso"}).values;
-      const std::vector<double> now = ctx.skills.configuration({"torso"});
-      for (size_t i = 0; i < rest.size() && i < now.size(); ++i) {
-        if (std::abs(rest[i] - now[i]) > kBentTorso) torso_rest_ = rest;
+      if (max_difference(rest, ctx.skills.configuration({"torso"})) > kBentTorso) {
+        torso_rest_ = rest;
+        out.insert(out.end() - 1, "torso");
       }
-      if (!torso_rest_.empty()) out.insert(out.end() - 1, "torso");
     }
     return out;
   }

@@ -318,6 +318,17 @@ TEST(GreetOnAtlas, TheBaseTurnsOnlyWhereNothingIsSweptIntoTheTable) {
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
 }
 
+// Runs the scenario file `file` of `root` (all its trials, or `only`); its trials.jsonl.
+std::string run_in_root(const test::ScratchRoot& root, const std::string& file,
+                        const std::string& only = "") {
+  const test::CommandResult r = test::run_cli(
+      "run " + (root.path() / file).string() + (only.empty() ? "" : " --only " + only) +
+          " --jobs 1 --progress off --out " + (root.path() / "run").string(),
+      root.path());
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  return root.read("run/trials.jsonl");
+}
+
 // Runs one trial of a task of scenarios/tasks/ (tidy.yaml, chores.yaml) for `robot` in
 // `environment` (the task file's own robots and environments replaced); its trials.jsonl.
 std::string run_task_trial(const std::string& task, const std::string& robot,
@@ -328,12 +339,7 @@ std::string run_task_trial(const std::string& task, const std::string& robot,
   EXPECT_FALSE(text.empty()) << task;
   text = std::regex_replace(text, std::regex("\n(robots|environments): [^\n]*"), "");
   root.write(task, text + "robots: [" + robot + "]\nenvironments: [" + environment + "]\n");
-  const test::CommandResult r =
-      test::run_cli("run " + (root.path() / task).string() + " --only " + trial_id +
-                        " --jobs 1 --progress off --out " + (root.path() / "run").string(),
-                    root.path());
-  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  return root.read("run/trials.jsonl");
+  return run_in_root(root, task, trial_id);
 }
 
 // The trial succeeded, and `program` ran in it (the case the test describes).
@@ -420,12 +426,7 @@ trials: 1
 time_limit_s: 40
 success: in_view(visitor)
 )");
-  const test::CommandResult r =
-      test::run_cli("run " + (root.path() / "fixate.yaml").string() +
-                        " --jobs 1 --progress off --out " + (root.path() / "run").string(),
-                    root.path());
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const std::string trials = root.read("run/trials.jsonl");
+  const std::string trials = run_in_root(root, "fixate.yaml");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
 }
 
@@ -453,12 +454,7 @@ seed: 1
 trials: 1
 time_limit_s: 60
 )");
-  const test::CommandResult r =
-      test::run_cli("run " + (root.path() / "explore.yaml").string() +
-                        " --jobs 1 --progress off --out " + (root.path() / "run").string(),
-                    root.path());
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const std::string trials = root.read("run/trials.jsonl");
+  const std::string trials = run_in_root(root, "explore.yaml");
   std::size_t successes = 0;
   for (std::size_t at = trials.find("\"status\":\"success\""); at != std::string::npos;
        at = trials.find("\"status\":\"success\"", at + 1)) {
