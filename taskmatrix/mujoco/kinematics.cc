@@ -320,6 +320,7 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
   const int rows = o.orientation ? 6 : 3;
   double best_pos = INFINITY, best_rot = INFINITY;
   int converged_in_collision = 0;
+  std::string first_contact;
   Eigen::MatrixXd jac(rows, n);
   Eigen::VectorXd err(rows);
   // The step's work space, allocated once: an iteration allocates nothing.
@@ -380,7 +381,12 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
             checker.emplace(scene, m, d, joints, attachments);
           }
           if (checker->in_collision(solution.data())) {
-            ++converged_in_collision;
+            if (converged_in_collision++ == 0) {
+              // What the first one touches, for the reason: its first contact.
+              for (int i = 0; i < n; ++i) d->qpos[adr[i]] = solution[i];
+              first_contact = describe_robot_contacts(scene, m, d, attachments);
+              first_contact = first_contact.substr(0, first_contact.find(';'));
+            }
             break;
           }
         }
@@ -437,7 +443,8 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
   if (!result.solutions.empty()) return finish(core::IkStatus::kSolved, "");
   if (converged_in_collision > 0) {
     return finish(core::IkStatus::kInCollision,
-                  std::to_string(converged_in_collision) + " solutions found, all in collision");
+                  std::to_string(converged_in_collision) +
+                      " solutions found, all in collision (first: " + first_contact + ")");
   }
   char buf[160];
   std::snprintf(buf, sizeof buf,

@@ -194,6 +194,7 @@ void Scene::index_and_validate() {
     throw InputError(pfile, "chains.base.joints",
                      "must be a slide joint along x, a slide joint along y and a hinge about z");
   }
+  centre_base_on_start();
 
   // Every robot joint belongs to a chain, and has a position actuator.
   for (int j = 0; j < m->njnt; ++j) {
@@ -404,6 +405,46 @@ std::optional<GeomPair> Scene::collidable_pair(int g1, int g2) const {
   GeomPair p{g1, g2, std::max(m->geom_margin[g1], m->geom_margin[g2])};
   if (m->geom_type[p.g1] > m->geom_type[p.g2]) std::swap(p.g1, p.g2);
   return p;
+}
+
+void Scene::centre_base_on_start() {
+  // A planar base's ranges say how far the robot may travel and turn from where it stands, not
+  // where the room's origin is: each is shifted, its width kept, to centre on the room's start
+  // pose, the yaw's only if it spans a full turn (a room whose start heading is near pi, facing
+  // -x, would leave the robot a few degrees to turn one way). The base's actuators' control
+  // ranges move with them. A start heading outside a yaw range narrower than a full turn is the
+  // environment's error.
+  mjModel* m = model_.get();
+  ChainIndex& base = *std::find_if(chains_.begin(), chains_.end(),
+                                   [](const ChainIndex& c) { return c.name == "base"; });
+  const double start[3] = {environment_.robot_start.x, environment_.robot_start.y,
+                           environment_.robot_start.yaw};
+  for (int k = 0; k < 3; ++k) {
+    const int j = base.joints[static_cast<size_t>(k)];
+    const double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
+    if (k == 2 && hi - lo < 2 * M_PI - kFullTurnSlackRad) {
+      if (start[k] < lo || start[k] > hi) {
+        throw InputError(environment_.spec_file.string(), "robot_start.yaw",
+                         std::to_string(start[k]) + " is outside " + robot_.name +
+                             "'s base yaw range [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "]");
+      }
+      continue;
+    }
+    const double shift = start[k] - 0.5 * (lo + hi);
+    if (shift == 0) continue;
+    m->jnt_range[2 * j] += shift;
+    m->jnt_range[2 * j + 1] += shift;
+    base.lower[static_cast<size_t>(k)] += shift;
+    base.upper[static_cast<size_t>(k)] += shift;
+    for (int a = 0; a < m->nu; ++a) {
+      if (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == j &&
+          m->actuator_ctrllimited[a]) {
+        m->actuator_ctrlrange[2 * a] += shift;
+        m->actuator_ctrlrange[2 * a + 1] += shift;
+      }
+    }
+  }
 }
 
 const ChainIndex& Scene::chain(std::string_view name) const {

@@ -126,6 +126,11 @@ class Scene {
  private:
   Scene() = default;
   void index_and_validate();
+  // Shifts the base joints' ranges (and their actuators' control ranges) to centre on the
+  // environment's start pose; a yaw only if its range spans a full turn (within
+  // kFullTurnSlackRad).
+  void centre_base_on_start();
+  static constexpr double kFullTurnSlackRad = 1e-3;
 
   ModelPtr model_;
   core::RobotProfile robot_;

@@ -3,11 +3,15 @@
 // itself or reaches the profile's fist posture. A segment that touches stops, and so do the
 // segments between it and the palm: once a fingertip holds the object, closing the finger's
 // inner joints would only drag and tilt it. The object is then held (attached to the hand) if
-// a majority of the hand's fingers touch it or stopped on it (HandGeometry::fingers_needed). A
-// grasp that does not hold is noted against the candidate reach moved to, so the next reach tries
-// another.
+// a majority of the hand's fingers touch it or stopped on it (HandGeometry::fingers_needed), or,
+// for a tool, if the closed fingers ring its handle: one of them on the handle, the others
+// closed on the hand's own fingers, and the grip point inside the ring they make seen along
+// the handle (a small hand's fingertips meet round a thick handle before both reach it). A
+// grasp that does not hold is noted against the candidate reach moved to, so the next reach
+// tries another.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "taskmatrix/programs/grasp_candidates.h"
 #include "taskmatrix/programs/primitives.h"
@@ -37,7 +41,8 @@ class Grasp final : public core::TaskProgram {
     const std::string chain = hand_of(side_);
     const core::ChainInfo& info = skills.chain(chain);
     hand_ = skills.profile().find_hand(side_);
-    needed_ = measure_hand(skills, *hand_).fingers_needed;
+    geometry_ = measure_hand(skills, *hand_);
+    needed_ = geometry_.fingers_needed;
     fist_ = skills.posture("fist").at(chain);
     target_ = clamped_configuration(skills, {chain});
     segments_.clear();
@@ -116,19 +121,48 @@ class Grasp final : public core::TaskProgram {
     return false;
   }
 
+  // Whether the object is a tool whose handle the hand's fingers ring (rings(): seen along the
+  // handle, the grip point inside the fingers' segments and tips).
+  bool rings_handle(core::ProgramContext& ctx) const {
+    const core::PerceivedObject* o = ctx.percepts().find(object_);
+    const std::optional<Handle> handle = o ? tool_handle(*o) : std::nullopt;
+    if (!handle) return false;
+    core::Skillset& skills = ctx.skills();
+    std::vector<Eigen::Vector3d> points;
+    for (size_t k = 0; k < hand_->fingers.size() && k < geometry_.tips_in_last.size(); ++k) {
+      core::Pose last;
+      for (const std::string& body : hand_->fingers[k].bodies) {
+        last = skills.frame_pose(body);
+        points.push_back(last.position);
+      }
+      points.push_back(last.position + last.orientation * geometry_.tips_in_last[k]);
+    }
+    return rings(*handle, points);
+  }
+
   core::ProgramState finish(core::ProgramContext& ctx) {
     core::Skillset& skills = ctx.skills();
     int touching = 0;
+    bool others_on_fingers = true;  // every finger off the object closed on another finger
     for (size_t k = 0; k < hand_->fingers.size(); ++k) {
       const core::FingerSpec& f = hand_->fingers[k];
       // A finger that stopped on the object holds it, though under physics its contact may
       // flicker off at the instant the last finger stops.
-      bool touches = stopped_on_object_[k];
+      bool touches = stopped_on_object_[k], on_finger = false;
       for (const std::string& body : f.bodies) {
         const std::vector<std::string> contacts = skills.touching(body);
         touches |= std::find(contacts.begin(), contacts.end(), object_) != contacts.end();
+        for (const std::string& other : contacts) {
+          on_finger |=
+              std::find(f.bodies.begin(), f.bodies.end(), other) == f.bodies.end() &&
+              std::find(own_bodies_.begin(), own_bodies_.end(), other) != own_bodies_.end();
+        }
       }
       touching += touches;
+      others_on_fingers = others_on_fingers && (touches || on_finger);
+    }
+    if (touching < needed_ && touching >= 1 && others_on_fingers && rings_handle(ctx)) {
+      touching = needed_;
     }
     if (touching < needed_) {
       // The grasp reach moved to did not hold: the next reach leaves it out.
@@ -155,6 +189,7 @@ class Grasp final : public core::TaskProgram {
 
   std::string object_, side_;
   const core::HandSpec* hand_ = nullptr;
+  HandGeometry geometry_;
   int needed_ = 1;
   std::vector<double> fist_, target_;
   std::vector<Segment> segments_;

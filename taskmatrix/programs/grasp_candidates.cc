@@ -32,6 +32,9 @@ constexpr double kSweepStepRad = 0.2;
 // than kSlideTurnRad and moves more than kSlideMinM.
 constexpr double kSlideTurnRad = 0.01;
 constexpr double kSlideMinM = 0.005;
+// A handle is ringed when, seen along its axis, no gap round it between the hand's points is
+// wider than a half-turn less this.
+constexpr double kRingMarginRad = 0.1;
 
 Eigen::Vector3d horizontal(Eigen::Vector3d v) {
   v.z() = 0;
@@ -227,6 +230,7 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand) {
       finger_sweep.push_back(std::move(points));
     }
     g.sweeps.push_back(std::move(finger_sweep));
+    g.tips_in_last.push_back(tip_in_last);
     ++g.fingers;
   }
   g.aperture_m = g.fingers >= 2 ? hi - lo : 0;
@@ -294,6 +298,36 @@ GraspCandidate::Placement GraspCandidate::place(const HandGeometry& hand, double
   return p;
 }
 
+std::optional<Handle> tool_handle(const core::PerceivedObject& object) {
+  const auto grip = object.frames.find("grip");
+  if (grip == object.frames.end()) return std::nullopt;
+  Handle h;
+  h.centre = grip->second.position;
+  h.shape = nearest_shape(Geometry(object).shapes(), h.centre);
+  h.axis =
+      h.shape.type == core::Shape::Type::kCapsule || h.shape.type == core::Shape::Type::kCylinder
+          ? h.shape.pose.orientation * Eigen::Vector3d::UnitZ()
+          : grip->second.orientation * Eigen::Vector3d::UnitX();
+  h.axis.normalize();
+  return h;
+}
+
+bool rings(const Handle& handle, const std::vector<Eigen::Vector3d>& points) {
+  // Seen along the axis, the centre is inside the points' convex hull when no half-plane
+  // through it holds them all: every angular gap between the points, round it, is under pi.
+  const Eigen::Vector3d u = handle.axis.unitOrthogonal(), v = handle.axis.cross(u);
+  std::vector<double> angles;
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d d = p - handle.centre;
+    if (std::hypot(d.dot(u), d.dot(v)) > 1e-6) angles.push_back(std::atan2(d.dot(v), d.dot(u)));
+  }
+  if (angles.size() < 3) return false;
+  std::sort(angles.begin(), angles.end());
+  double widest = angles.front() + 2 * M_PI - angles.back();
+  for (size_t i = 1; i < angles.size(); ++i) widest = std::max(widest, angles[i] - angles[i - 1]);
+  return widest < M_PI - kRingMarginRad;
+}
+
 std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object,
                                              const HandGeometry& hand,
                                              const Eigen::Vector3d& from) {
@@ -341,15 +375,9 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   };
 
   // A tool: the fingers wrap its handle, across the handle's axis, from above first.
-  const auto grip = object.frames.find("grip");
-  if (grip != object.frames.end()) {
-    const Eigen::Vector3d g = grip->second.position;
-    const core::Shape& handle = nearest_shape(geometry.shapes(), g);
-    Eigen::Vector3d axis =
-        handle.type == core::Shape::Type::kCapsule || handle.type == core::Shape::Type::kCylinder
-            ? handle.pose.orientation * Eigen::Vector3d::UnitZ()
-            : grip->second.orientation * Eigen::Vector3d::UnitX();
-    axis.normalize();
+  if (const std::optional<Handle> tool = tool_handle(object)) {
+    const Eigen::Vector3d g = tool->centre, axis = tool->axis;
+    const core::Shape& handle = tool->shape;
     Eigen::Vector3d down = -up - (-up).dot(axis) * axis;
     if (down.norm() < 1e-6) down = toward - toward.dot(axis) * axis;
     down.normalize();

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,9 @@ struct HandGeometry {
   // which it comes within `radius` of the line, where it stops; radius 0: the whole sweep.
   std::vector<Eigen::Vector3d> swept_points(const Eigen::Vector3d& centre,
                                             const Eigen::Vector3d& axis, double radius) const;
+  // Each finger's fingertip estimate in its last segment's frame (zero for a one-segment
+  // finger: its frame's origin).
+  std::vector<Eigen::Vector3d> tips_in_last;
   int fingers = 0;
   // Fingers that must touch an object for the hand to hold it: a majority of its fingers.
   int fingers_needed = 0;
@@ -97,6 +101,20 @@ struct GraspCandidate {
   };
   Placement place(const HandGeometry& hand, double clearance) const;
 };
+
+// A tool's handle: the shape nearest its grip frame, the grip point and the handle's axis
+// (a capsule's or cylinder's own, else the grip frame's x axis). None without a grip frame.
+struct Handle {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
+  core::Shape shape;
+};
+std::optional<Handle> tool_handle(const core::PerceivedObject& object);
+
+// Whether points of a hand (world: the palm, its fingers' segments and tips) ring the handle:
+// seen along its axis, the grip point lies inside their convex hull (with a margin), so the
+// handle cannot leave the hand across its axis.
+bool rings(const Handle& handle, const std::vector<Eigen::Vector3d>& points);
 
 // The candidates for `object` with `hand`, best first. `from`: a point the hand comes from
 // (its palm now).

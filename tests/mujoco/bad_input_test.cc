@@ -46,6 +46,16 @@ const std::string kEnvMjcf = "models/environments/kitchen/kitchen.xml";
 
 std::vector<BadInputCase> cases() {
   return {
+      // A base yaw narrower than a full turn is not re-centred on the room's start heading.
+      {"StartHeadingOutsideANarrowBaseYaw",
+       "minibot",
+       [](const ScratchRoot& r) {
+         r.replace(kMjcf, "range=\"-3.14159 3.14159\" damping=\"100\"",
+                   "range=\"-1 1\" damping=\"100\"");
+         r.replace(kMjcf, "ctrlrange=\"-3.14159 3.14159\"", "ctrlrange=\"-1 1\"");
+         r.replace(kEnvSpec, "yaw: 0.0}", "yaw: 2.0}");
+       },
+       {"environment.yaml", "robot_start.yaw", "2.0", "outside minibot's base yaw range"}},
       {"MjcfTruncated",
        "minibot",
        [](const ScratchRoot& r) {

@@ -300,6 +300,30 @@ TEST_P(SkillsetOnBothRobots, GoalInCollisionIsInvalidGoal) {
   EXPECT_NE(r.message.find("mm)"), std::string::npos) << r.message;
 }
 
+// IK that converges only into collision says what the first such solution touches.
+TEST_P(SkillsetOnBothRobots, IkSolutionsOnlyInCollisionNameTheFirstContact) {
+  const Chains chains = {"right_arm"};
+  const std::string palm = skills().profile().find_hand("right")->palm;
+  std::mt19937_64 rng(6);
+  std::vector<double> colliding;
+  for (int k = 0; k < 5000 && colliding.empty(); ++k) {
+    std::vector<double> q = random_configuration(skills(), chains, rng);
+    if (!skills().is_valid(chains, q)) colliding = q;
+  }
+  ASSERT_FALSE(colliding.empty());
+  core::IkOptions options;
+  options.start = colliding;  // converges at once, there
+  options.restarts = 0;
+  const core::IkResult r =
+      skills().solve_ik(chains, palm, skills().frame_pose_at(chains, colliding, palm), options);
+  EXPECT_EQ(r.status, core::IkStatus::kInCollision) << r.reason;
+  EXPECT_NE(r.reason.find("1 solutions found, all in collision (first: "), std::string::npos)
+      << r.reason;
+  EXPECT_NE(r.reason.find(" touches "), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("mm))"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.reason.find(';'), std::string::npos) << r.reason;  // one contact
+}
+
 TEST_P(SkillsetOnBothRobots, NanAndOutOfLimitInputsAreRejectedWithTheJointNamed) {
   const Chains chains = {"left_arm"};
   const core::ChainInfo& arm = skills().chain("left_arm");

@@ -173,5 +173,32 @@ TEST(GraspCandidatesOnTallbot, ClosingOnAHandleFromAboveStaysOffTheTableAndFinge
   }
 }
 
+// Seen along the handle (x), two fingers from a palm below it whose tips meet above it ring it;
+// the same fingers short of meeting, or all beside it, do not.
+TEST(RingedHandle, OnlyPointsAllRoundTheHandleRingIt) {
+  Handle handle;
+  handle.centre = {0.3, 0.1, 0.8};
+  handle.axis = Eigen::Vector3d::UnitX();
+  auto at = [&](double y, double z) {
+    return Eigen::Vector3d(handle.centre + Eigen::Vector3d(0.01, y, z));
+  };
+  // Finger bases either side of the palm, middle segments beside the handle, tips above it.
+  const std::vector<Eigen::Vector3d> meeting = {at(-0.04, -0.03), at(-0.03, 0.01), at(-0.005, 0.03),
+                                                at(0.04, -0.03),  at(0.03, 0.01),  at(0.005, 0.03)};
+  EXPECT_TRUE(rings(handle, meeting));
+  // The tips still beside the handle: the half-plane above it is open.
+  const std::vector<Eigen::Vector3d> open = {at(-0.04, -0.03), at(-0.03, 0.0), at(0.04, -0.03),
+                                             at(0.03, 0.0)};
+  EXPECT_FALSE(rings(handle, open));
+  // Closed, but with the handle outside the fingers (beside the second).
+  std::vector<Eigen::Vector3d> beside = meeting;
+  for (Eigen::Vector3d& p : beside) p.y() += 0.06;
+  EXPECT_FALSE(rings(handle, beside));
+  // Along the axis the points do not matter.
+  std::vector<Eigen::Vector3d> along = meeting;
+  for (Eigen::Vector3d& p : along) p.x() += 0.2;
+  EXPECT_TRUE(rings(handle, along));
+}
+
 }  // namespace
 }  // namespace taskmatrix::programs
