@@ -181,20 +181,26 @@ MachineSpec greet() {
               state("raise_again", "postural", raise, in_view),
               state("wave_again", "canned", wave, in_view), state("lower", "postural", lower),
               state("make_room_to_lower", "retreat", step_back),
-              state("lower_again", "postural", lower_with_torso), final_state("greeted", true)};
+              state("lower_again", "postural", lower_with_torso),
+              // The arms down, the robot looks at the target again (it walked on while they
+              // came down, untracked): turning the base is safe again. Not finding it does not
+              // undo the greeting.
+              state("look", "fixate", find), final_state("greeted", true)};
   m.initial = "find";
   m.transitions = {on_completed("find", "raise"),
                    on_completed("find_again", "raise"),
                    on_completed("raise", "wave"),
                    on_completed("wave", "lower"),
-                   on_completed("lower", "greeted"),
+                   on_completed("lower", "look"),
+                   on_completed("look", "greeted"),
+                   on_failed("look", "greeted"),
                    on_failed("find", "make_room"),
                    on_completed("make_room", "tuck"),
                    on_completed("tuck", "find_again"),
                    on_failed("tuck", "find_again"),
                    on_failed("lower", "make_room_to_lower"),
                    on_completed("make_room_to_lower", "lower_again"),
-                   on_completed("lower_again", "greeted"),
+                   on_completed("lower_again", "look"),
                    on_failed("raise", "find_raised"),
                    on_failed("wave", "find_raised"),
                    on_completed("find_raised", "raise_again"),
