@@ -12,7 +12,10 @@
 // space); cells that were in the frustum of two viewpoints without being observed count as
 // unobservable (occluded, out of range) and are not chased further. Motion to a viewpoint is
 // planned (collision-free); a viewpoint in collision (an arm swept into furniture by a base turn)
-// is taken from a base moved away from where it stands (up to 0.45 m).
+// is taken from a base moved away from where it stands (up to 0.45 m). When nothing from where
+// the robot stands shows a new cell, once, the base is free to walk round the region: 8 base
+// poses round it facing its centre, as far outside its edge as the robot stands now (0.25 to
+// 0.6 m), with the head grid; the cells given up on count again.
 //
 // Records "coverage" (observed cells / all cells) after every scan. Completes when coverage
 // reaches `coverage`; fails with "coverage_short: ..." when no viewpoint promises a new cell
@@ -227,6 +230,7 @@ class Explore final : public core::TaskProgram {
       }
       heads.swap(next);
     }
+    heads_ = heads;
     // Without a head the base does all the aiming: turns all the way round, each also from
     // 0.3 m back along the new heading (a fixed camera sees nothing close below it).
     std::vector<double> turns{0.0}, backs{0.0};
@@ -318,6 +322,45 @@ class Explore final : public core::TaskProgram {
     return std::nullopt;
   }
 
+  // Viewpoints from base poses round the region (kRoundPoses directions from its centre),
+  // each as far outside its edge as the base stands from the edge now (kRoundStandoffM at
+  // least and at most), facing its centre, with every head position of the grid and the torso
+  // as in the other viewpoints. False when the base is not free or none is within its limits.
+  bool add_viewpoints_round(core::Skillset& skills) {
+    if (!base_ || heads_.empty()) return false;
+    const core::ChainInfo& base = skills.chain("base");
+    const std::vector<double> b = skills.configuration({"base"});
+    const double cx = 0.5 * (region_.x0 + region_.x1), cy = 0.5 * (region_.y0 + region_.y1);
+    const double hx = 0.5 * (region_.x1 - region_.x0), hy = 0.5 * (region_.y1 - region_.y0);
+    const double outside = std::hypot(std::max({region_.x0 - b[0], 0.0, b[0] - region_.x1}),
+                                      std::max({region_.y0 - b[1], 0.0, b[1] - region_.y1}));
+    const double standoff = std::clamp(outside, kRoundStandoffM[0], kRoundStandoffM[1]);
+    const size_t before = viewpoints_.size();
+    for (int k = 0; k < kRoundPoses; ++k) {
+      const double a = 2 * M_PI * k / kRoundPoses, c = std::cos(a), sn = std::sin(a);
+      // From the centre to the region's edge along (c, sn), then the standoff beyond it.
+      const double edge = std::min(std::abs(c) > 1e-9 ? hx / std::abs(c) : INFINITY,
+                                   std::abs(sn) > 1e-9 ? hy / std::abs(sn) : INFINITY);
+      std::vector<double> pose = {cx + (edge + standoff) * c, cy + (edge + standoff) * sn,
+                                  b[2] + std::remainder(a + M_PI - b[2], 2 * M_PI)};
+      // A yaw whose range spans a full turn: the same heading the other way round.
+      if (pose[2] > base.upper[2] && pose[2] - 2 * M_PI >= base.lower[2]) pose[2] -= 2 * M_PI;
+      if (pose[2] < base.lower[2] && pose[2] + 2 * M_PI <= base.upper[2]) pose[2] += 2 * M_PI;
+      bool within = true;
+      for (size_t j = 0; j < 3; ++j) {
+        within = within && pose[j] >= base.lower[j] && pose[j] <= base.upper[j];
+      }
+      if (!within) continue;
+      for (const std::vector<double>& h : heads_) {
+        std::vector<double> v = h;
+        v.insert(v.end(), torso_rest_.begin(), torso_rest_.end());
+        v.insert(v.end(), pose.begin(), pose.end());
+        viewpoints_.push_back(std::move(v));
+      }
+    }
+    return viewpoints_.size() > before;
+  }
+
   // Plans to the most promising viewpoint; an unreachable one is skipped for the next best.
   // A viewpoint in collision is replaced by its clear variant (or dropped) before planning,
   // so that only plans count against the six attempts.
@@ -341,7 +384,17 @@ class Explore final : public core::TaskProgram {
           best_cells = std::move(cells);
         }
       }
-      if (best < 0) break;
+      if (best < 0) {
+        // Nothing from where the robot stands shows more (a short robot's fixed tilt sees
+        // only the near half of a deep table): once, viewpoints round the region, and the
+        // cells given up on are tried again from there.
+        const size_t near = viewpoints_.size();
+        if (walked_round_ || !add_viewpoints_round(skills)) break;
+        walked_round_ = true;
+        for (size_t k = 0; k < near; ++k) visited_.insert(k);  // they showed what they could
+        std::fill(missed_.begin(), missed_.end(), 0);
+        continue;
+      }
       visited_.insert(static_cast<size_t>(best));
       std::vector<double> goal = viewpoints_[static_cast<size_t>(best)];
       if (!skills.is_valid(chains_, goal)) {
@@ -385,6 +438,10 @@ class Explore final : public core::TaskProgram {
   std::vector<size_t> expected_;
   std::vector<std::string> chains_;
   std::vector<std::vector<double>> viewpoints_;
+  std::vector<std::vector<double>> heads_;  // the grid over the head joints
+  bool walked_round_ = false;               // the viewpoints round the region were added
+  static constexpr int kRoundPoses = 8;
+  static constexpr double kRoundStandoffM[2] = {0.25, 0.6};
   std::set<size_t> visited_;
   double start_time_ = 0, next_scan_ = 0;
   MotionStage motion_;
