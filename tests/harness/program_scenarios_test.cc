@@ -417,6 +417,22 @@ TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
   EXPECT_EQ(count(completed), 1);
 }
 
+// Runs the scenario `text` (written as `file`) in a scratch copy of the kitchen whose robot
+// starts at `start` (the environment file's robot_start line); expects it to succeed.
+void expect_success_in_kitchen_starting_at(const std::string& start, const std::string& file,
+                                           const std::string& text,
+                                           const std::string& floor_region = "") {
+  test::ScratchRoot root;
+  const std::string env = "models/environments/kitchen/environment.yaml";
+  root.replace(env, "robot_start: {x: 0.0, y: 0.0, yaw: 0.0}", "robot_start: " + start);
+  if (!floor_region.empty()) {
+    root.replace(env, "- {name: floor, x: [1.15, 3.1]", "- {name: floor, x: " + floor_region);
+  }
+  root.write(file, text);
+  const std::string trials = run_in_root(root, file);
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
 // A room whose robot starts on the far side of the table, facing -x, and start headings drawn
 // round that: past pi the robot stood outside its [-pi, pi] base yaw (`invalid_start: joint
 // 'base_yaw' starts at 3.28, outside its limits`), and every arm program failed (tallbot,
@@ -424,12 +440,9 @@ TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
 // base yaw whose range spans a full turn is now centred on the room's start heading (the
 // slides on its start position).
 TEST(ARoomFacingMinusX, TheRobotPicksUpTheCupFromTheFarSideOfTheTable) {
-  test::ScratchRoot root;
-  const std::string env = "models/environments/kitchen/environment.yaml";
-  root.replace(env, "robot_start: {x: 0.0, y: 0.0, yaw: 0.0}",
-               "robot_start: {x: 1.32, y: 0.0, yaw: 3.14159}");
-  root.replace(env, "- {name: floor, x: [1.15, 3.1]", "- {name: floor, x: [1.95, 3.1]");
-  root.write("pickup.yaml", R"(program: pickup
+  // Obstacles on the floor keep off the robot's side of the table.
+  expect_success_in_kitchen_starting_at("{x: 1.32, y: 0.0, yaw: 3.14159}", "pickup.yaml",
+                                        R"(program: pickup
 params: {object: cup}
 robots: [tallbot]
 environments: [kitchen]
@@ -441,9 +454,8 @@ seed: 2
 trials: 1
 time_limit_s: 60
 success: grasping(cup)
-)");
-  const std::string trials = run_in_root(root, "pickup.yaml");
-  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+)",
+                                        "[1.95, 3.1]");
 }
 
 // A room whose robot stands at the long side of the table, the side surface across it: from
@@ -451,11 +463,8 @@ success: grasping(cup)
 // no viewpoint shows a cell not yet observed`) and explore gave up. When nothing from where it
 // stands shows more, explore walks round the region.
 TEST(ExploreAcrossTheTable, WalksRoundTheRegionWhenNothingFromHereShowsMore) {
-  test::ScratchRoot root;
-  root.replace("models/environments/kitchen/environment.yaml",
-               "robot_start: {x: 0.0, y: 0.0, yaw: 0.0}",
-               "robot_start: {x: 0.65, y: -0.97, yaw: 1.5708}");
-  root.write("explore.yaml", R"(program: explore
+  expect_success_in_kitchen_starting_at("{x: 0.65, y: -0.97, yaw: 1.5708}", "explore.yaml",
+                                        R"(program: explore
 params: {surface: side_surface, coverage: 0.9, cell_m: 0.05}
 robots: [minibot]
 environments: [kitchen]
@@ -465,19 +474,14 @@ seed: 1
 trials: 1
 time_limit_s: 60
 )");
-  const std::string trials = run_in_root(root, "explore.yaml");
-  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
 }
 
 // A room whose robot starts facing -x, the visitor behind it: fixate turns the base round to
 // the visitor (the base yaw's range is centred on the start heading; before that, the start
 // sat at the limit of a [-pi, pi] yaw and fixate had to turn the other way round).
 TEST(FixateFacingAway, TurnsTheBaseTheOtherWayWhenTheShortWayIsPastItsYawLimit) {
-  test::ScratchRoot root;
-  root.replace("models/environments/kitchen/environment.yaml",
-               "robot_start: {x: 0.0, y: 0.0, yaw: 0.0}",
-               "robot_start: {x: 0.0, y: 0.0, yaw: 3.14159}");
-  root.write("fixate.yaml", R"(program: fixate
+  expect_success_in_kitchen_starting_at("{x: 0.0, y: 0.0, yaw: 3.14159}", "fixate.yaml",
+                                        R"(program: fixate
 params: {object: visitor, until_centered: true}
 robots: [minibot]
 environments: [kitchen]
@@ -488,8 +492,6 @@ trials: 1
 time_limit_s: 40
 success: in_view(visitor)
 )");
-  const std::string trials = run_in_root(root, "fixate.yaml");
-  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
 }
 
 // explore looked only within a radian of where the base faced and never moved the torso: a

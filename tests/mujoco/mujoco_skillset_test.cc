@@ -40,6 +40,17 @@ std::vector<double> valid_configuration(core::Skillset& s, const Chains& chains,
   return {};
 }
 
+std::vector<double> colliding_configuration(core::Skillset& s, const Chains& chains,
+                                            std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  for (int attempt = 0; attempt < 5000; ++attempt) {
+    std::vector<double> q = random_configuration(s, chains, rng);
+    if (!s.is_valid(chains, q)) return q;
+  }
+  ADD_FAILURE() << "no configuration in collision found";
+  return {};
+}
+
 double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) {
   double e = 0;
   for (size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
@@ -265,12 +276,7 @@ TEST_P(SkillsetOnBothRobots, SeveralTargetPosesAreTriedInTurn) {
 TEST_P(SkillsetOnBothRobots, StartInCollisionIsInvalidStartNeverTimeoutOrSuccess) {
   auto* backend = skills_.get();
   const Chains chains = {"left_arm"};
-  std::mt19937_64 rng(5);
-  std::vector<double> colliding;
-  for (int k = 0; k < 5000 && colliding.empty(); ++k) {
-    std::vector<double> q = random_configuration(skills(), chains, rng);
-    if (!skills().is_valid(chains, q)) colliding = q;
-  }
+  const std::vector<double> colliding = colliding_configuration(skills(), chains, 5);
   ASSERT_FALSE(colliding.empty());
   const std::vector<double> goal = valid_configuration(skills(), chains, 8);
   backend->set_configuration(chains, colliding);
@@ -283,12 +289,7 @@ TEST_P(SkillsetOnBothRobots, StartInCollisionIsInvalidStartNeverTimeoutOrSuccess
 
 TEST_P(SkillsetOnBothRobots, GoalInCollisionIsInvalidGoal) {
   const Chains chains = {"right_arm"};
-  std::mt19937_64 rng(6);
-  std::vector<double> colliding;
-  for (int k = 0; k < 5000 && colliding.empty(); ++k) {
-    std::vector<double> q = random_configuration(skills(), chains, rng);
-    if (!skills().is_valid(chains, q)) colliding = q;
-  }
+  const std::vector<double> colliding = colliding_configuration(skills(), chains, 6);
   core::PlanOptions options;
   options.time_limit_s = 2;
   const core::PlanResult r = skills().plan_to_configuration(chains, colliding, options);
@@ -304,12 +305,7 @@ TEST_P(SkillsetOnBothRobots, GoalInCollisionIsInvalidGoal) {
 TEST_P(SkillsetOnBothRobots, IkSolutionsOnlyInCollisionNameTheFirstContact) {
   const Chains chains = {"right_arm"};
   const std::string palm = skills().profile().find_hand("right")->palm;
-  std::mt19937_64 rng(6);
-  std::vector<double> colliding;
-  for (int k = 0; k < 5000 && colliding.empty(); ++k) {
-    std::vector<double> q = random_configuration(skills(), chains, rng);
-    if (!skills().is_valid(chains, q)) colliding = q;
-  }
+  const std::vector<double> colliding = colliding_configuration(skills(), chains, 6);
   ASSERT_FALSE(colliding.empty());
   core::IkOptions options;
   options.start = colliding;  // converges at once, there
