@@ -9,7 +9,8 @@
 //   greet    target, side       fixate on the target until it is centred (head and base);
 //                               then, tracking it with the head alone, raise a free arm
 //                               (postural wave_start) and wave (canned wave, while
-//                               in_view(target) holds); tracking stops and the arm is lowered.
+//                               in_view(target) holds); tracking stops, the arm is lowered
+//                               and it finds the target once more.
 //                               Where the base cannot turn to the target or the arms cannot
 //                               come down to rest, it steps back from the nearest surface
 //                               (retreat), lowers the arms, and tries once more (lowering the

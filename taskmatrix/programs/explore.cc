@@ -266,12 +266,9 @@ class Explore final : public core::TaskProgram {
             std::vector<double> b(now.begin() + static_cast<long>(n + torso_rest_.size()),
                                   now.end());
             if (b.size() != 3) continue;
-            b[2] += turn;
-            // Past a limit of a yaw whose range spans a full turn: the same heading the other
-            // way round.
-            if (b[2] > base->upper[2] && b[2] - 2 * M_PI >= base->lower[2]) b[2] -= 2 * M_PI;
-            if (b[2] < base->lower[2] && b[2] + 2 * M_PI <= base->upper[2]) b[2] += 2 * M_PI;
-            if (b[2] < base->lower[2] || b[2] > base->upper[2]) continue;
+            const std::optional<double> heading = heading_within_limits(*base, b[2] + turn);
+            if (!heading) continue;
+            b[2] = *heading;
             b[0] -= back * std::cos(b[2]);
             b[1] -= back * std::sin(b[2]);
             v.insert(v.end(), b.begin(), b.end());
@@ -341,13 +338,13 @@ class Explore final : public core::TaskProgram {
       // From the centre to the region's edge along (c, sn), then the standoff beyond it.
       const double edge = std::min(std::abs(c) > 1e-9 ? hx / std::abs(c) : INFINITY,
                                    std::abs(sn) > 1e-9 ? hy / std::abs(sn) : INFINITY);
-      std::vector<double> pose = {cx + (edge + standoff) * c, cy + (edge + standoff) * sn,
-                                  b[2] + std::remainder(a + M_PI - b[2], 2 * M_PI)};
-      // A yaw whose range spans a full turn: the same heading the other way round.
-      if (pose[2] > base.upper[2] && pose[2] - 2 * M_PI >= base.lower[2]) pose[2] -= 2 * M_PI;
-      if (pose[2] < base.lower[2] && pose[2] + 2 * M_PI <= base.upper[2]) pose[2] += 2 * M_PI;
+      const std::optional<double> heading =
+          heading_within_limits(base, b[2] + std::remainder(a + M_PI - b[2], 2 * M_PI));
+      if (!heading) continue;
+      const std::vector<double> pose = {cx + (edge + standoff) * c, cy + (edge + standoff) * sn,
+                                        *heading};
       bool within = true;
-      for (size_t j = 0; j < 3; ++j) {
+      for (size_t j = 0; j < 2; ++j) {
         within = within && pose[j] >= base.lower[j] && pose[j] <= base.upper[j];
       }
       if (!within) continue;

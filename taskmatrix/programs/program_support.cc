@@ -109,6 +109,13 @@ double max_difference(const std::vector<double>& a, const std::vector<double>& b
   return e;
 }
 
+std::optional<double> heading_within_limits(const core::ChainInfo& base, double yaw) {
+  if (yaw > base.upper[2] && yaw - 2 * M_PI >= base.lower[2]) yaw -= 2 * M_PI;
+  if (yaw < base.lower[2] && yaw + 2 * M_PI <= base.upper[2]) yaw += 2 * M_PI;
+  if (yaw < base.lower[2] || yaw > base.upper[2]) return std::nullopt;
+  return yaw;
+}
+
 LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
                        const std::string& side) {
   const std::string named_side = single_side(named.chains);

@@ -67,6 +67,10 @@ std::vector<double> clamped_configuration(const core::Skillset& skills,
 
 // Largest |a - b| over joints.
 double max_difference(const std::vector<double>& a, const std::vector<double>& b);
+// A base heading (yaw joint value) within the base's limits: as it is, or, past a limit of a
+// yaw whose range spans a full turn, the same heading the other way round; nullopt if neither
+// is within them.
+std::optional<double> heading_within_limits(const core::ChainInfo& base, double yaw);
 
 // A short straight motion that takes an arm's hand, or what it holds, off what it touches,
 // so that a plan can start free: a held object is lifted along the vertical (off the surface
