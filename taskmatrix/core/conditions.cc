@@ -177,6 +177,13 @@ class Grasping final : public Condition {
   std::string a_;
 };
 
+// The world-aligned box round a shape.
+Eigen::AlignedBox3d part_box(const Shape& s) {
+  Eigen::Vector3d half;
+  for (int i = 0; i < 3; ++i) half[i] = s.half_width(Eigen::Vector3d::Unit(i));
+  return {s.pose.position - half, s.pose.position + half};
+}
+
 class Graspable final : public Condition {
  public:
   Graspable(std::string a, std::string side) : a_(std::move(a)), side_(std::move(side)) {}
@@ -194,6 +201,14 @@ class Graspable final : public Condition {
       // A grasp of an object (not a tool's grip) may hold it anywhere within its box: from
       // above, the palm stays over the top of a tall object.
       if (!tool && box->contains(palm.position)) return true;
+      // Or within that distance of one of its parts, held on its own (a mug by its handle).
+      for (size_t i = 0; !tool && !(h && h->id == a_) && known && known->shapes.size() >= 2 &&
+                         i < known->shapes.size();
+           ++i) {
+        if (part_box(known->shapes[i]).exteriorDistance(palm.position) <= kGraspableDistance) {
+          return true;
+        }
+      }
     }
     return false;
   }

@@ -35,6 +35,16 @@ constexpr double kSlideMinM = 0.005;
 // A handle is ringed when, seen along its axis, no gap round it between the hand's points is
 // wider than a half-turn less this.
 constexpr double kRingMarginRad = 0.1;
+// Side grasps raised by steps of this above the object's middle, at most this share of the way
+// to its top, ranked after every other candidate.
+constexpr double kRaiseM = 0.02;
+constexpr double kMaxRaiseShare = 0.5;
+constexpr double kRaisedCost = 30.0;
+// A part sticking out at least this far beyond the rest of an object may be grasped on its
+// own, ranked after the grasps of the whole object that fit loosely.
+constexpr double kPartMinOutM = 0.01;
+constexpr double kPartCost = 5.0;
+constexpr double kPartObliqueRad = 0.6;
 
 Eigen::Vector3d horizontal(Eigen::Vector3d v) {
   v.z() = 0;
@@ -354,7 +364,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   auto add = [&](const std::string& family, Eigen::Vector3d at, const Eigen::Vector3d& approach,
                  const Eigen::Vector3d& closing, double width, double half_depth,
                  const Eigen::Vector3d& free_axis, double turn, double cost) {
-    if (width > hand.aperture_m) return;  // the fingers cannot pass around it
+    if (width > hand.aperture_m) return false;  // the fingers cannot pass around it
     GraspCandidate c;
     c.family = family;
     c.id = family + "." + std::to_string(counts[family]++);
@@ -372,6 +382,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
     // A hand coming down whose fingers would reach the support even held back: the last resort.
     if (c.approach.z() < -kDownward && c.place(hand, 0).support_gap_m < 0) c.score += 20.0;
     out.push_back(c);
+    return true;
   };
 
   // A tool: the fingers wrap its handle, across the handle's axis, from above first.
@@ -439,6 +450,47 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       for (double sign : {1.0, -1.0}) {
         add("side", centre, a, sign * closing, geometry.width(closing), geometry.width(a) / 2, up,
             turn, cost);
+      }
+    }
+  }
+  // A part that sticks out sideways beyond the rest of the object (a mug's handle), grasped on
+  // its own from outside, towards the object's middle: for a hand too small for the whole.
+  for (size_t i = 0; geometry.shapes().size() >= 2 && i < geometry.shapes().size(); ++i) {
+    const core::Shape& part = geometry.shapes()[i];
+    const Eigen::Vector3d out_dir = horizontal(part.pose.position - centre);
+    if (out_dir.isZero()) continue;
+    std::vector<core::Shape> rest = geometry.shapes();
+    rest.erase(rest.begin() + static_cast<long>(i));
+    const double part_out = part.pose.position.dot(out_dir) + part.half_width(out_dir);
+    if (part_out <= Geometry::extent_of(rest, out_dir).second + kPartMinOutM) continue;
+    // Straight in, or obliquely from either side.
+    for (double yaw : {0.0, kPartObliqueRad, -kPartObliqueRad}) {
+      const Eigen::Vector3d a = yawed(-out_dir, yaw);
+      const Eigen::Vector3d closing = up.cross(a).normalized();
+      const double turn = free_turn({part}, closing, hand.aperture_m);
+      const double cost = kPartCost + angle_between(a, toward) / M_PI + std::abs(yaw);
+      for (double sign : {1.0, -1.0}) {
+        if (add("part", part.pose.position, a, sign * closing, 2 * part.half_width(closing),
+                part.half_width(a), up, turn, cost)) {
+          out.back().fallback = true;
+        }
+      }
+    }
+  }
+
+  // The same horizontal side grasps a little higher up the object, after every other: where
+  // the hand's own body below the palm (a wide wrist) meets the surface the object stands on.
+  for (double raise : {kRaiseM}) {
+    if (raise > kMaxRaiseShare * (top - centre.z())) break;
+    for (const Eigen::Vector3d& a : approaches) {
+      const Eigen::Vector3d closing = up.cross(a).normalized();
+      const double turn = round ? M_PI / 8 : free_turn(geometry.shapes(), closing, hand.aperture_m);
+      const double cost = kRaisedCost + angle_between(a, toward) / M_PI + raise;
+      for (double sign : {1.0, -1.0}) {
+        if (add("side", centre + raise * up, a, sign * closing, geometry.width(closing),
+                geometry.width(a) / 2, up, turn, cost)) {
+          out.back().fallback = true;
+        }
       }
     }
   }

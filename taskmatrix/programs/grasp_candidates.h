@@ -10,13 +10,21 @@
 //   top   from above, closing along the object's horizontal axes (or several directions
 //         for an object that is round about the vertical); the palm stays above the top;
 //   side  horizontally, towards the object's faces (or from several directions around a round
-//         object), closing horizontally across it, then closing vertically.
-// Each has the object's width along its closing axis. A candidate the hand cannot span (width
-// over the aperture of its fingers) is left out; the rest are ranked: those that fit loosely
-// before tight ones, then by how directly the hand comes in from where it is (a side approach
-// pointing away from the robot is the easiest), top grasps between the direct and the oblique
-// side approaches, vertical closings last, and after all of them those coming down whose fingers
-// would reach the surface the object stands on. Ids name the family and index and stay the
+//         object), closing horizontally across it, then closing vertically; and last the
+//         horizontal closings again 2 cm higher up the object (where a wide wrist below the
+//         palm meets the surface under a short object), if that stays within the middle half
+//         of its height;
+//   part  for an object of several shapes, a shape that sticks out sideways beyond the rest
+//         (a mug's handle) on its own: horizontally from outside towards the object's middle,
+//         straight or 0.6 rad from either side, closing across the part.
+// Each has the width along its closing axis (of the object, or of the part). A candidate the
+// hand cannot span (width over the aperture of its fingers) is left out; the rest are ranked:
+// those that fit loosely before tight ones, then by how directly the hand comes in from where
+// it is (a side approach pointing away from the robot is the easiest), top grasps between the
+// direct and the oblique side approaches, vertical closings last, and after all of them those
+// coming down whose fingers would reach the surface the object stands on. The parts and the
+// raised side grasps are `fallback`: reach tries them in a second round, only when it found no
+// way to any of the others (or there are no others). Ids name the family and index and stay the
 // same while the object and the robot's side of it do, so a grasp that failed can be left out of
 // the next attempt.
 #pragma once
@@ -70,7 +78,7 @@ HandGeometry measure_hand(core::Skillset& skills, const core::HandSpec& hand);
 
 struct GraspCandidate {
   std::string id;      // family and index, e.g. "top.2"
-  std::string family;  // "grip", "top" or "side"
+  std::string family;  // "grip", "top", "side" or "part"
   // World: the centre of the grasped section (on the object's axis, the handle's axis), the
   // direction the hand moves in along its approach axis, and the direction its fingers close
   // along.
@@ -87,6 +95,9 @@ struct GraspCandidate {
   Eigen::Vector3d free_axis = Eigen::Vector3d::Zero();
   double free_turn_rad = 0;
   double score = 0;  // lower is better
+  // Tried only after every other candidate of the object found no way there (reach's second
+  // round): the raised side grasps and the parts. Reaching for the others stays as it was.
+  bool fallback = false;
 
   // Where the palm frame goes for the palm to stay `clearance` metres off the object's near
   // side (the palm is the hand's palm_depth_m behind its frame) with the grasped section no

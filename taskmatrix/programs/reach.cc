@@ -3,7 +3,9 @@
 // grip, from above and from the side, ranked for this hand; those a grasp of this object by
 // this hand already failed with (ProgramContext::notes) are left out. Each is tried in turn
 // (IK, then planning), at two clearances of the palm, with the arm, then torso and arm, then by
-// stepping (ArmMotion); the first plan found is executed and its candidate noted for grasp. The
+// stepping (ArmMotion); the first plan found is executed and its candidate noted for grasp.
+// The fallback candidates (a part of the object on its own, side grasps higher up) get a
+// second round of the same only when the first found no way to any of the others. The
 // hand may turn about the candidate's free axis (round objects, handles) as far as the grasp
 // allows, whatever the arm; after a grasp that did not hold because something else stopped a
 // finger, only as far as the closing fingers stay over the surface under the object. Exits at
@@ -27,6 +29,8 @@ constexpr double kClearances[] = {0.01, 0.025};
 constexpr double kVerticalAxis = 0.9;
 // How far the axes of the closing fingers stay over the support.
 constexpr double kSweepClearance = 0.005;
+// How much of the second round's failure reason follows the first's.
+constexpr size_t kMaxSecondReason = 160;
 
 class Reach final : public core::TaskProgram {
  public:
@@ -73,10 +77,11 @@ class Reach final : public core::TaskProgram {
       return;
     }
     core::Skillset& skills = ctx.skills();
-    const core::HandSpec* hand = skills.profile().find_hand(side_);
-    const HandGeometry geometry = measure_hand(skills, *hand);
+    palm_ = skills.profile().find_hand(side_)->palm;
+    geometry_ = measure_hand(skills, *skills.profile().find_hand(side_));
+    const HandGeometry& geometry = geometry_;
     std::vector<GraspCandidate> all =
-        grasp_candidates(*o, geometry, skills.frame_pose(hand->palm).position);
+        grasp_candidates(*o, geometry, skills.frame_pose(palm_).position);
     if (all.empty()) {
       failure_ = core::Failure(
           core::FailureCode::kNotGraspable,
@@ -86,8 +91,10 @@ class Reach final : public core::TaskProgram {
       return;
     }
     for (const GraspCandidate& c : all) {
-      if (std::find(failed.begin(), failed.end(), c.id) == failed.end()) candidates_.push_back(c);
+      if (std::find(failed.begin(), failed.end(), c.id) != failed.end()) continue;
+      (c.fallback ? fallback_ : candidates_).push_back(c);
     }
+    if (candidates_.empty()) candidates_.swap(fallback_);
     if (candidates_.empty()) {
       failure_ =
           core::Failure(core::FailureCode::kGraspFailed,
@@ -95,6 +102,13 @@ class Reach final : public core::TaskProgram {
                             side_ + " hand did not hold (" + join(failed) + ")");
       return;
     }
+    failure_ = start_round(ctx);
+    if (failure_) failure_ = next_round(ctx, std::move(*failure_));
+  }
+
+  // Moves to one of candidates_: their targets to ArmMotion.
+  std::optional<core::Failure> start_round(core::ProgramContext& ctx) {
+    const HandGeometry& geometry = geometry_;
     std::vector<ArmTarget> targets;
     const bool blocked = !ctx.notes(blocked_fingers_note(object_, side_)).empty();
     for (const GraspCandidate& c : candidates_) {
@@ -127,7 +141,32 @@ class Reach final : public core::TaskProgram {
     arm_motion_.stage().execution.position_tolerance = 0.003;
     // The fingers may brush the object on the last centimetres; anything else stops the arm.
     arm_motion_.stage().execution.may_touch = {object_};
-    failure_ = arm_motion_.start(ctx, arm_of(side_), hand->palm, targets, ik, torso_, base_);
+    return arm_motion_.start(ctx, arm_of(side_), palm_, targets, ik, torso_, base_);
+  }
+
+  // After `failure` of a round that found no way to its candidates: the fallback candidates
+  // (GraspCandidate::fallback) get their own round, started here (nullopt). Without one, the
+  // failure, with the first round's before it when this was the second.
+  std::optional<core::Failure> next_round(core::ProgramContext& ctx, core::Failure failure) {
+    const bool unreached = failure.code == core::FailureCode::kIkFailure ||
+                           failure.code == core::FailureCode::kPlanningFailed ||
+                           failure.code == core::FailureCode::kPlanningTimeout ||
+                           failure.code == core::FailureCode::kApproximateSolution;
+    if (!first_round_failure_ && unreached && !fallback_.empty()) {
+      first_round_failure_ = std::move(failure);
+      candidates_ = std::move(fallback_);
+      fallback_.clear();
+      std::optional<core::Failure> second = start_round(ctx);
+      if (!second) return std::nullopt;
+      failure = std::move(*second);
+    }
+    if (!first_round_failure_) return failure;
+    core::Failure out = *first_round_failure_;
+    std::string then = failure.reason();
+    if (then.size() > kMaxSecondReason) then = then.substr(0, kMaxSecondReason) + "...";
+    out.detail +=
+        "; then " + std::to_string(candidates_.size()) + " grasps higher up or of a part: " + then;
+    return out;
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
@@ -135,7 +174,10 @@ class Reach final : public core::TaskProgram {
     if (done_) return core::ProgramState::kCompleted;
     const std::optional<Ended> result = arm_motion_.step(ctx);
     if (!result) return core::ProgramState::kRunning;
-    if (*result) return fail(**result);
+    if (*result) {
+      std::optional<core::Failure> failure = next_round(ctx, std::move(**result));
+      return failure ? fail(*failure) : core::ProgramState::kRunning;
+    }
     const int k = arm_motion_.target_index();
     if (k >= 0) {
       ctx.notes(reached_grasp_note(object_, side_)) = {
@@ -159,7 +201,12 @@ class Reach final : public core::TaskProgram {
   std::string object_, side_;
   bool use_torso_ = true, torso_ = false, use_base_ = true, base_ = false;
   int max_failures_ = 3;
-  std::vector<GraspCandidate> candidates_;
+  // The candidates of the round under way, and those for a second round (GraspCandidate::
+  // fallback) after a first that found no way to its own.
+  std::vector<GraspCandidate> candidates_, fallback_;
+  std::optional<core::Failure> first_round_failure_;
+  std::string palm_;
+  HandGeometry geometry_;
   ArmMotion arm_motion_;
   std::optional<core::Failure> failure_;
   bool done_ = false;

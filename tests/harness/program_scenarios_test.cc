@@ -433,6 +433,91 @@ void expect_success_in_kitchen_starting_at(const std::string& start, const std::
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
 }
 
+// A scratch root whose kitchen also holds a mug (9 cm across, a handle sticking out 3 cm) and
+// an 8 cm ball on its table: objects the programs were never written for.
+void add_mug_and_ball_to_the_kitchen(const test::ScratchRoot& root) {
+  root.replace("models/environments/kitchen/kitchen.xml", "    <body name=\"box\"",
+               R"(    <body name="mug" pos="0.5 0.35 0.7">
+      <freejoint name="mug_free"/>
+      <geom name="mug_shell" type="cylinder" size="0.045 0.05" mass="0.3" friction="1 0.01 0.001"/>
+      <geom name="mug_handle" type="box" pos="0.06 0 0" size="0.015 0.006 0.03" mass="0.02" friction="1 0.01 0.001"/>
+    </body>
+    <body name="ball" pos="0.75 0.3 0.69">
+      <freejoint name="ball_free"/>
+      <geom name="ball_body" type="sphere" size="0.04" mass="0.15" friction="1 0.01 0.001"/>
+    </body>
+    <body name="box")");
+  root.replace(
+      "models/environments/kitchen/environment.yaml", "  box: ",
+      "  mug: {body: mug, kind: graspable}\n  ball: {body: ball, kind: graspable}\n  box: ");
+}
+
+// Pickup of `object` by `robot` in that kitchen, both objects placed at random on the table
+// (layout `layout`, seed `seed`); the trial's record.
+std::string pick_up_in_a_kitchen_with_a_mug_and_a_ball(const std::string& object,
+                                                       const std::string& robot, int layout,
+                                                       int seed) {
+  test::ScratchRoot root;
+  add_mug_and_ball_to_the_kitchen(root);
+  root.write("pickup.yaml", "program: pickup\nparams: {object: " + object + "}\nrobots: [" + robot +
+                                R"(]
+environments: [kitchen]
+obstacles: {count: 8}
+objects:
+  mug: {on: work_surface, yaw: [-3.14159, 3.14159]}
+  ball: {on: work_surface}
+layout_seed: )" + std::to_string(layout) +
+                                "\nseed: " + std::to_string(seed) + R"(
+trials: 1
+time_limit_s: 60
+success: grasping()" + object + ")\n");
+  return run_in_root(root, "pickup.yaml");
+}
+
+// Every side grasp of the ball's middle put atlas's wrist on the table (`8 solutions found, all
+// in collision (first: l_wrist_mount touches table_top (depth 0.4 mm))`) and every grasp from
+// above its fingers: 0 of 8 layouts. Side grasps 2 cm higher up come last: 8 of 8.
+TEST(ObjectsNeverSeen, AtlasPicksUpABallFromTheTable) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  const std::string trials = pick_up_in_a_kitchen_with_a_mug_and_a_ball("ball", "atlas", 900, 1);
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
+// minibot's palm ended beside the mug's handle, outside the 3 cm round the mug's centre and
+// outside its box (`the left palm reached its target but 'mug' is not graspable from there`).
+// A hand is now taken to the handle on its own, and graspable() finds a palm within 3 cm of
+// one of an object's parts.
+TEST(ObjectsNeverSeen, MinibotPicksUpAMugByItsHandle) {
+  const std::string trials = pick_up_in_a_kitchen_with_a_mug_and_a_ball("mug", "minibot", 903, 4);
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
+// Over a 0.45 m table tallbot's palm gets nowhere (models/README.md): the first round of grasps
+// finds no way, the second (side grasps 2 cm higher) neither, and the reason says both.
+TEST(ObjectsNeverSeen, AReachWhoseBothRoundsFailSaysWhatEachFound) {
+  test::ScratchRoot root;
+  root.write("pickup.yaml", R"(program: pickup
+params: {object: cup}
+robots: [tallbot]
+environments: [kitchen]
+obstacles: {count: 8}
+surfaces: {work_surface: {height_m: 0.45}}
+layout_seed: 1
+seed: 1
+trials: 1
+time_limit_s: 60
+success: grasping(cup)
+)");
+  const std::string trials = run_in_root(root, "pickup.yaml");
+  EXPECT_TRUE(std::regex_search(
+      trials, std::regex("\"failure_reason\":\"pickup > reach: ik_failure: [^\"]* reaches none of "
+                         "[0-9]+ targets[^\"]*; then 16 grasps higher up or of a part: "
+                         "ik_failure: [^\"]* reaches none of 32 targets")))
+      << trials.substr(0, 3000);
+}
+
 // A room whose robot starts on the far side of the table, facing -x, and start headings drawn
 // round that: past pi the robot stood outside its [-pi, pi] base yaw (`invalid_start: joint
 // 'base_yaw' starts at 3.28, outside its limits`), and every arm program failed (tallbot,

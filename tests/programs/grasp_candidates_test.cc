@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 #include "tests/test_support.h"
@@ -198,6 +201,112 @@ TEST(RingedHandle, OnlyPointsAllRoundTheHandleRingIt) {
   std::vector<Eigen::Vector3d> along = meeting;
   for (Eigen::Vector3d& p : along) p.x() += 0.2;
   EXPECT_TRUE(rings(handle, along));
+}
+
+// An object of primitive shapes standing on a table at z = 0.7, at (0.5, 0.3).
+core::PerceivedObject object_of(const std::vector<core::Shape>& shapes) {
+  core::PerceivedObject o;
+  o.id = "thing";
+  o.type = "graspable";
+  o.pose.position = {0.5, 0.3, 0.75};
+  o.shapes = shapes;
+  o.box.setEmpty();
+  for (const core::Shape& s : shapes) {
+    for (int i = 0; i < 3; ++i) {
+      const double h = s.half_width(Eigen::Vector3d::Unit(i));
+      Eigen::Vector3d lo = s.pose.position, hi = s.pose.position;
+      lo[i] -= h;
+      hi[i] += h;
+      o.box.extend(lo);
+      o.box.extend(hi);
+    }
+  }
+  return o;
+}
+
+core::Shape shape(core::Shape::Type type, const Eigen::Vector3d& at, const Eigen::Vector3d& size) {
+  core::Shape s;
+  s.type = type;
+  s.pose.position = at;
+  s.size = size;
+  return s;
+}
+
+// A mug 9 cm across, its handle sticking out 3 cm towards +x: tallbot's hand (80 mm between its
+// fingers) spans no grasp of the whole mug (before: `not_graspable`) but closes round the handle,
+// coming at it from outside towards the mug's middle (straight, or obliquely, 0.6 rad from
+// either side), the fingers across its 12 mm: fallback grasps, the only ones here.
+TEST(GraspCandidatesOfAMug, AHandTooSmallForTheMugHoldsItByTheHandle) {
+  mujoco::MujocoSkillset skills(test::scene("tallbot", "kitchen"));
+  const core::HandSpec& spec = skills.profile().hands.front();
+  const HandGeometry hand = measure_hand(skills, spec);
+  ASSERT_LT(hand.aperture_m, 0.09);
+  const core::PerceivedObject mug =
+      object_of({shape(core::Shape::Type::kCylinder, {0.5, 0.3, 0.75}, {0.045, 0.05, 0}),
+                 shape(core::Shape::Type::kBox, {0.56, 0.3, 0.75}, {0.015, 0.006, 0.03})});
+  const std::vector<GraspCandidate> all = grasp_candidates(mug, hand, {0.0, 0.3, 1.0});
+  ASSERT_EQ(all.size(), 6u);
+  for (const GraspCandidate& c : all) {
+    EXPECT_EQ(c.family, "part") << c.id;
+    EXPECT_TRUE(c.fallback) << c.id;
+    EXPECT_LT((c.centre - Eigen::Vector3d(0.56, 0.3, 0.75)).norm(), 1e-9) << c.id;
+    EXPECT_GT(c.approach.dot(-Eigen::Vector3d::UnitX()), std::cos(0.6) - 1e-9) << c.id;
+    EXPECT_NEAR(c.approach.z(), 0, 1e-9) << c.id;
+    EXPECT_LT(c.width_m, 0.03) << c.id;
+  }
+  EXPECT_NEAR(all.front().approach.x(), -1, 1e-9) << "straight in first";
+  // A hand wide enough for the whole mug grasps the whole first, the handle after.
+  HandGeometry wide = hand;
+  wide.aperture_m = 0.2;
+  const std::vector<GraspCandidate> wider = grasp_candidates(mug, wide, {0.0, 0.3, 1.0});
+  ASSERT_GT(wider.size(), 6u);
+  EXPECT_NE(wider.front().family, "part");
+  // (The mug's body beside the handle is a part too: it sticks out the other way.)
+  EXPECT_EQ(std::count_if(
+                wider.begin(), wider.end(),
+                [](const GraspCandidate& c) { return c.family == "part" && c.centre.x() > 0.55; }),
+            6);
+  // A juice box with its straw inside its outline has no part that sticks out.
+  const core::PerceivedObject box =
+      object_of({shape(core::Shape::Type::kBox, {0.5, 0.3, 0.76}, {0.025, 0.025, 0.06}),
+                 shape(core::Shape::Type::kCapsule, {0.514, 0.311, 0.836}, {0.003, 0.02, 0})});
+  for (const GraspCandidate& c : grasp_candidates(box, hand, {0.0, 0.3, 1.0})) {
+    EXPECT_NE(c.family, "part") << c.id;
+  }
+}
+
+// An 8 cm ball: side grasps at its middle put atlas's wrist on the table (`all in collision
+// (first: l_wrist_mount touches table_top (depth 0.4 mm))`, every pickup failed; 1 cm higher
+// they still did). The same side grasps 2 cm higher come after every other candidate; a 3 cm
+// slab gets none (they would leave the middle half of its height).
+TEST(GraspCandidatesOfABall, SideGraspsAlsoGoALittleHigherUpAfterEveryOther) {
+  mujoco::MujocoSkillset skills(test::scene("tallbot", "kitchen"));
+  HandGeometry hand = measure_hand(skills, skills.profile().hands.front());
+  hand.aperture_m = 0.1;  // clear of the ball's width (tallbot's is 80 mm, the ball's own)
+  const core::PerceivedObject ball =
+      object_of({shape(core::Shape::Type::kSphere, {0.5, 0.3, 0.74}, {0.04, 0, 0})});
+  const std::vector<GraspCandidate> all = grasp_candidates(ball, hand, {0.0, 0.3, 1.0});
+  size_t first_raised = all.size();
+  int raised = 0;
+  for (size_t i = 0; i < all.size(); ++i) {
+    const double up = all[i].centre.z() - 0.74;
+    EXPECT_EQ(all[i].fallback, up > 1e-9) << all[i].id;
+    if (up < 1e-9) {
+      EXPECT_LT(i, first_raised) << all[i].id << " after a raised grasp";
+      continue;
+    }
+    first_raised = std::min(first_raised, i);
+    EXPECT_EQ(all[i].family, "side") << all[i].id;
+    EXPECT_NEAR(all[i].approach.z(), 0, 1e-9) << all[i].id;
+    EXPECT_NEAR(up, 0.02, 1e-9) << all[i].id;
+    ++raised;
+  }
+  EXPECT_EQ(raised, 16);  // 8 directions round a round object, either closing sense
+  const core::PerceivedObject slab =
+      object_of({shape(core::Shape::Type::kBox, {0.5, 0.3, 0.715}, {0.03, 0.03, 0.015})});
+  for (const GraspCandidate& c : grasp_candidates(slab, hand, {0.0, 0.3, 1.0})) {
+    EXPECT_NEAR(c.centre.z(), 0.715, 1e-9) << c.id;
+  }
 }
 
 }  // namespace
