@@ -5,7 +5,8 @@
 //     flake of debris);
 //   - `target_type`: the same, for the nearest known object of that type;
 //   - `on`: a resting placement for the held object on that surface, drawn from
-//     above(object, surface) and near(object, surface) (putdown), `height` above its rest.
+//     above(object, surface) and near(object, surface) (putdown), `height` above its rest;
+//     those clear of other objects' boxes (by 1 cm) first, then nearest the object.
 // Candidate orientations stand the held object up as it stood before the grasp and turn it
 // about the vertical; the turn is also left to IK, for any arm. Each candidate is tried in turn
 // (IK, then planning), with the arm, then torso and arm, then base, torso and arm (ArmMotion).
@@ -21,6 +22,9 @@
 namespace taskmatrix::programs {
 
 namespace {
+
+// How far a placement keeps from another object's box, across.
+constexpr double kPlacementGapM = 0.01;
 
 class Position final : public core::TaskProgram {
  public:
@@ -170,10 +174,25 @@ class Position final : public core::TaskProgram {
                            "no placement satisfies " + resting->describe());
     }
     const Eigen::Vector3d offset = now.position - held.box.center();
-    std::sort(boxes.begin(), boxes.end(), [&](const auto& a, const auto& b) {
-      return (a.center() - held.box.center()).squaredNorm() <
-             (b.center() - held.box.center()).squaredNorm();
+    // Clear of what else stands there (another object's box within kPlacementGapM across:
+    // the cup put down a moment ago) before the rest; then nearest the object first.
+    const Eigen::Vector3d gap(kPlacementGapM, kPlacementGapM, 0);
+    auto clear = [&](const Eigen::AlignedBox3d& box) {
+      const Eigen::AlignedBox3d grown(box.min() - gap, box.max() + gap);
+      for (const auto& [id, o] : ctx.percepts().objects()) {
+        if (id == object_ || o.type == "surface" || o.type == "humanoid") continue;
+        if (grown.intersects(o.box)) return false;
+      }
+      return true;
+    };
+    std::vector<std::pair<bool, Eigen::AlignedBox3d>> ranked;
+    for (const Eigen::AlignedBox3d& box : boxes) ranked.emplace_back(!clear(box), box);
+    std::stable_sort(ranked.begin(), ranked.end(), [&](const auto& a, const auto& b) {
+      if (a.first != b.first) return !a.first;
+      return (a.second.center() - held.box.center()).squaredNorm() <
+             (b.second.center() - held.box.center()).squaredNorm();
     });
+    for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = ranked[i].second;
     boxes.resize(std::min<size_t>(boxes.size(), 6));
     for (const Eigen::AlignedBox3d& box : boxes) {
       points.push_back(box.center() + offset + Eigen::Vector3d(0, 0, height_));

@@ -391,6 +391,19 @@ TEST(GreetAfterAPutdown, AHandRoundWhatItSetDownWithdrawsBeforeTheRobotStepsBack
   expect_success_running(trials, "retreat");
 }
 
+// atlas put the juice box down next to the cup it had just set on the counter: the six nearest
+// placements drawn all lay round the cup, and every IK solution had the box in the cup (`box
+// reaches none of 36 targets ... all in collision (first: cup_shell touches box_body)`, kitchen
+// 204). Placements at least 1 cm clear of other objects' boxes now come first.
+TEST(TidyTheTable, TheJuiceBoxGoesBesideTheCupNotIntoIt) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  const std::string trials =
+      run_task_trial("tidy.yaml", "atlas", "kitchen", "tidy.atlas.kitchen.RRTConnect.l204.s5");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
 // After stepping back, minibot's arm still lay out over the counter where it had set the juice
 // box down, and each base turn towards the visitor swept it into the counter: not centred
 // after 20 s (kitchen, layout 201). greet now brings the arms down before finding again.
@@ -402,10 +415,12 @@ TEST(GreetAfterAPutdown, TheArmsComeDownBeforeTheBaseTurnsToTheVisitorAgain) {
 
 // The walking visitor left minibot's view while it waved (office, layout 204): the wave's
 // invariant in_view(visitor) stopped it. greet finds the visitor again, base and head, and
-// raises the arm and waves once more.
+// raises the arm and waves once more. (Since putdown's placements keep clear of other objects
+// the box goes elsewhere in that world and the visitor stays in view; kitchen 206 is such a
+// case now: there, on the code before, the visitor left the view a second time.)
 TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
   const std::string trials =
-      run_task_trial("tidy.yaml", "minibot", "office", "tidy.minibot.office.RRTConnect.l204.s5");
+      run_task_trial("tidy.yaml", "minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l206.s7");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   const std::regex halted("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"halted\"");
   const std::regex completed("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"completed\"");
