@@ -201,10 +201,10 @@ class Graspable final : public Condition {
       // A grasp of an object (not a tool's grip) may hold it anywhere within its box: from
       // above, the palm stays over the top of a tall object.
       if (!tool && box->contains(palm.position)) return true;
-      // Or within that distance of one of its parts, held on its own (a mug by its handle).
-      for (size_t i = 0; !tool && !(h && h->id == a_) && known && known->shapes.size() >= 2 &&
-                         i < known->shapes.size();
-           ++i) {
+      // Or within that distance of a part that sticks out (protruding_shapes), held on its
+      // own (a mug by its handle).
+      if (tool || (h && h->id == a_) || !known) continue;
+      for (const size_t i : protruding_shapes(*known)) {
         if (part_box(known->shapes[i]).exteriorDistance(palm.position) <= kGraspableDistance) {
           return true;
         }
@@ -217,6 +217,7 @@ class Graspable final : public Condition {
     const PerceivedObject* known = w.percepts.find(a_);
     if (!known) return describe() + ": " + unknown(w, {a_});
     if (!w.skills.holder_of(a_).empty()) return describe() + ": " + a_ + " is held";
+    if (holds(w, nullptr)) return describe() + " holds";
     double nearest = std::numeric_limits<double>::infinity();
     for (const HandSpec& hand : w.skills.profile().hands) {
       if (side_ != "any" && hand.side != side_) continue;

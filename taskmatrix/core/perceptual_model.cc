@@ -23,6 +23,34 @@ double Shape::half_width(const Eigen::Vector3d& u) const {
   return 0;
 }
 
+std::vector<size_t> protruding_shapes(const PerceivedObject& object) {
+  std::vector<size_t> out;
+  const std::vector<Shape>& shapes = object.shapes;
+  if (shapes.size() < 2) return out;
+  // The far side of `shapes` (all but `skip`) along `u`.
+  auto reach = [&](const Eigen::Vector3d& u, size_t skip) {
+    double far = -INFINITY;
+    for (size_t j = 0; j < shapes.size(); ++j) {
+      if (j != skip) far = std::max(far, shapes[j].pose.position.dot(u) + shapes[j].half_width(u));
+    }
+    return far;
+  };
+  Eigen::Vector3d centre;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d u = Eigen::Vector3d::Unit(i);
+    centre[i] = 0.5 * (reach(u, shapes.size()) - reach(-u, shapes.size()));
+  }
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    Eigen::Vector3d out_dir = shapes[i].pose.position - centre;
+    out_dir.z() = 0;
+    if (out_dir.norm() < 1e-9) continue;
+    out_dir.normalize();
+    const double part = shapes[i].pose.position.dot(out_dir) + shapes[i].half_width(out_dir);
+    if (part > reach(out_dir, i) + kProtrudingPartM) out.push_back(i);
+  }
+  return out;
+}
+
 void PerceptualModel::observe(PerceivedObject object) {
   std::string id = object.id;
   objects_.insert_or_assign(std::move(id), std::move(object));

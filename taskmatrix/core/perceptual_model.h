@@ -48,6 +48,15 @@ struct PerceivedObject {
   }
 };
 
+// How far a shape must stick out beyond the rest of its object to count as a part of its own.
+constexpr double kProtrudingPartM = 0.01;
+
+// The shapes of an object of several that stick out sideways beyond the rest by at least
+// kProtrudingPartM (a mug's handle): seen from the middle of the object's extent, horizontally
+// towards the shape, its far side lies that much farther out than every other shape's. Their
+// indices in `object.shapes`; none for an object of fewer than two shapes.
+std::vector<size_t> protruding_shapes(const PerceivedObject& object);
+
 class PerceptualModel {
  public:
   // Inserts or replaces the object with the same id.

@@ -35,14 +35,12 @@ constexpr double kSlideMinM = 0.005;
 // A handle is ringed when, seen along its axis, no gap round it between the hand's points is
 // wider than a half-turn less this.
 constexpr double kRingMarginRad = 0.1;
-// Side grasps raised by steps of this above the object's middle, at most this share of the way
-// to its top, ranked after every other candidate.
+// Side grasps raised by this above the object's middle, if that is at most this share of the
+// way to its top (fallback candidates).
 constexpr double kRaiseM = 0.02;
 constexpr double kMaxRaiseShare = 0.5;
 constexpr double kRaisedCost = 30.0;
-// A part sticking out at least this far beyond the rest of an object may be grasped on its
-// own, ranked after the grasps of the whole object that fit loosely.
-constexpr double kPartMinOutM = 0.01;
+// The parts of an object (core::protruding_shapes), grasped on their own.
 constexpr double kPartCost = 5.0;
 constexpr double kPartObliqueRad = 0.6;
 
@@ -455,14 +453,9 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   }
   // A part that sticks out sideways beyond the rest of the object (a mug's handle), grasped on
   // its own from outside, towards the object's middle: for a hand too small for the whole.
-  for (size_t i = 0; geometry.shapes().size() >= 2 && i < geometry.shapes().size(); ++i) {
-    const core::Shape& part = geometry.shapes()[i];
+  for (const size_t i : core::protruding_shapes(object)) {
+    const core::Shape& part = object.shapes[i];
     const Eigen::Vector3d out_dir = horizontal(part.pose.position - centre);
-    if (out_dir.isZero()) continue;
-    std::vector<core::Shape> rest = geometry.shapes();
-    rest.erase(rest.begin() + static_cast<long>(i));
-    const double part_out = part.pose.position.dot(out_dir) + part.half_width(out_dir);
-    if (part_out <= Geometry::extent_of(rest, out_dir).second + kPartMinOutM) continue;
     // Straight in, or obliquely from either side.
     for (double yaw : {0.0, kPartObliqueRad, -kPartObliqueRad}) {
       const Eigen::Vector3d a = yawed(-out_dir, yaw);
@@ -478,16 +471,15 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
     }
   }
 
-  // The same horizontal side grasps a little higher up the object, after every other: where
-  // the hand's own body below the palm (a wide wrist) meets the surface the object stands on.
-  for (double raise : {kRaiseM}) {
-    if (raise > kMaxRaiseShare * (top - centre.z())) break;
+  // The same horizontal side grasps a little higher up the object: where the hand's own body
+  // below the palm (a wide wrist) meets the surface the object stands on.
+  if (kRaiseM <= kMaxRaiseShare * (top - centre.z()) + 1e-6) {
     for (const Eigen::Vector3d& a : approaches) {
       const Eigen::Vector3d closing = up.cross(a).normalized();
       const double turn = round ? M_PI / 8 : free_turn(geometry.shapes(), closing, hand.aperture_m);
-      const double cost = kRaisedCost + angle_between(a, toward) / M_PI + raise;
+      const double cost = kRaisedCost + angle_between(a, toward) / M_PI;
       for (double sign : {1.0, -1.0}) {
-        if (add("side", centre + raise * up, a, sign * closing, geometry.width(closing),
+        if (add("side", centre + kRaiseM * up, a, sign * closing, geometry.width(closing),
                 geometry.width(a) / 2, up, turn, cost)) {
           out.back().fallback = true;
         }

@@ -6,7 +6,8 @@
 //   - `target_type`: the same, for the nearest known object of that type;
 //   - `on`: a resting placement for the held object on that surface, drawn from
 //     above(object, surface) and near(object, surface) (putdown), `height` above its rest;
-//     those clear of other objects' boxes (by 1 cm) first, then nearest the object.
+//     those 1 cm clear of other known objects' boxes (not surfaces', not the visitor's) first,
+//     then nearest the object.
 // Candidate orientations stand the held object up as it stood before the grasp and turn it
 // about the vertical; the turn is also left to IK, for any arm. Each candidate is tried in turn
 // (IK, then planning), with the arm, then torso and arm, then base, torso and arm (ArmMotion).

@@ -427,11 +427,9 @@ std::optional<core::Failure> ArmMotion::reach_from_here(core::ProgramContext& ct
                            (std::isfinite(best_miss_m_) ? buf : " (" + why + ")"));
 }
 
-namespace {
+namespace {}  // namespace
 
-// Failures of reaching from here that a stance nearer the target can cure: no IK solution, or
-// none the planner could connect to (the arm at the edge of its workspace).
-bool stepping_may_help(const core::Failure& failure) {
+bool found_no_way(const core::Failure& failure) {
   switch (failure.code) {
     case core::FailureCode::kIkFailure:
     case core::FailureCode::kApproximateSolution:
@@ -442,8 +440,6 @@ bool stepping_may_help(const core::Failure& failure) {
       return false;
   }
 }
-
-}  // namespace
 
 std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const std::string& arm,
                                               const std::string& frame,
@@ -477,7 +473,7 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   motion_.allow_touching(touched);
   phase_ = Phase::kReaching;
   std::optional<core::Failure> failure = reach_from_here(ctx);
-  if (!base_ || !failure || !stepping_may_help(*failure)) return failure;
+  if (!base_ || !failure || !found_no_way(*failure)) return failure;
   return step_over(ctx, std::move(*failure));
 }
 
@@ -501,7 +497,7 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
   auto go = [&](size_t k, const std::vector<double>& solution,
                 std::optional<core::Failure>& ended) {
     ended = go_to_stance(ctx, body, k, solution);
-    if (ended && ended->code != core::FailureCode::kIkFailure && stepping_may_help(*ended) &&
+    if (ended && ended->code != core::FailureCode::kIkFailure && found_no_way(*ended) &&
         ++unplanned < kMaxUnplannedStances) {
       last_plan_failure = std::move(ended);
       ended.reset();
@@ -721,7 +717,7 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
     phase_ = Phase::kReaching;
     if (*result) return result;
     std::optional<core::Failure> failure = reach_from_here(ctx);
-    if (base_ && failure && stepping_may_help(*failure)) {
+    if (base_ && failure && found_no_way(*failure)) {
       failure = step_over(ctx, std::move(*failure));
     }
     if (failure) return Ended(std::move(failure));
@@ -754,7 +750,7 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
   // Reaching from this stance failed where another stance may do (the planner connected to no
   // solution, the arm wedged between what it reaches over and what stands beside it; or no IK
   // solution from where the base stopped): another stance, a bounded number of times.
-  if (failure && stepping_may_help(*failure) &&
+  if (failure && found_no_way(*failure) &&
       static_cast<int>(stances_left_.size()) < kMaxFailedStances) {
     stances_left_.push_back(ctx.skills().configuration({"base"}));
     failure = step_over(ctx, std::move(*failure));

@@ -173,6 +173,11 @@ class ReachEnvelope {
   Eigen::Vector2d axis_ = Eigen::Vector2d::Zero();
 };
 
+// Failures of finding a way to a target: no IK solution, or none the planner could connect to
+// (the arm at the edge of its workspace). A stance nearer the target, or other targets, may
+// cure them.
+bool found_no_way(const core::Failure& failure);
+
 // Moves `frame` of an arm to one of `targets` (tried in order) with as little of the body as
 // will do: the arm; when IK finds no solution for any target, torso and arm (if `torso`); then
 // (if `base`) the robot steps: IK over base, torso and arm gives a stance from which the arm

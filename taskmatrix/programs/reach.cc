@@ -5,7 +5,8 @@
 // (IK, then planning), at two clearances of the palm, with the arm, then torso and arm, then by
 // stepping (ArmMotion); the first plan found is executed and its candidate noted for grasp.
 // The fallback candidates (a part of the object on its own, side grasps higher up) get a
-// second round of the same only when the first found no way to any of the others. The
+// second round of the same only when the first found no way to any of the others (or first,
+// when there are no others). The
 // hand may turn about the candidate's free axis (round objects, handles) as far as the grasp
 // allows, whatever the arm; after a grasp that did not hold because something else stopped a
 // finger, only as far as the closing fingers stay over the surface under the object. Exits at
@@ -29,7 +30,7 @@ constexpr double kClearances[] = {0.01, 0.025};
 constexpr double kVerticalAxis = 0.9;
 // How far the axes of the closing fingers stay over the support.
 constexpr double kSweepClearance = 0.005;
-// How much of the second round's failure reason follows the first's.
+// How much of one round's failure reason follows the other's.
 constexpr size_t kMaxSecondReason = 160;
 
 class Reach final : public core::TaskProgram {
@@ -144,15 +145,13 @@ class Reach final : public core::TaskProgram {
     return arm_motion_.start(ctx, arm_of(side_), palm_, targets, ik, torso_, base_);
   }
 
-  // After `failure` of a round that found no way to its candidates: the fallback candidates
-  // (GraspCandidate::fallback) get their own round, started here (nullopt). Without one, the
-  // failure, with the first round's before it when this was the second.
+  // After `failure` of a round that found no way to its candidates (found_no_way): the
+  // fallback candidates (GraspCandidate::fallback) get their own round, started here (nullopt).
+  // Without one, the failure; after a second round, what both found: the first round's code
+  // and reason followed by the second's when that too found no way, else the second's (a
+  // collision while moving there) followed by the first's reason.
   std::optional<core::Failure> next_round(core::ProgramContext& ctx, core::Failure failure) {
-    const bool unreached = failure.code == core::FailureCode::kIkFailure ||
-                           failure.code == core::FailureCode::kPlanningFailed ||
-                           failure.code == core::FailureCode::kPlanningTimeout ||
-                           failure.code == core::FailureCode::kApproximateSolution;
-    if (!first_round_failure_ && unreached && !fallback_.empty()) {
+    if (!first_round_failure_ && found_no_way(failure) && !fallback_.empty()) {
       first_round_failure_ = std::move(failure);
       candidates_ = std::move(fallback_);
       fallback_.clear();
@@ -161,11 +160,18 @@ class Reach final : public core::TaskProgram {
       failure = std::move(*second);
     }
     if (!first_round_failure_) return failure;
+    auto cut = [](std::string text) {
+      return text.size() > kMaxSecondReason ? text.substr(0, kMaxSecondReason) + "..." : text;
+    };
+    const std::string second_round =
+        std::to_string(candidates_.size()) + " grasps higher up or of a part";
+    if (!found_no_way(failure)) {
+      failure.detail += " (reaching for " + second_round + ", after the first round's " +
+                        cut(first_round_failure_->reason()) + ")";
+      return failure;
+    }
     core::Failure out = *first_round_failure_;
-    std::string then = failure.reason();
-    if (then.size() > kMaxSecondReason) then = then.substr(0, kMaxSecondReason) + "...";
-    out.detail +=
-        "; then " + std::to_string(candidates_.size()) + " grasps higher up or of a part: " + then;
+    out.detail += "; then " + second_round + ": " + cut(failure.reason());
     return out;
   }
 

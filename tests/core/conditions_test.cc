@@ -191,6 +191,42 @@ TEST_F(ConditionsTest, GraspingAndGraspableFollowTheHands) {
   EXPECT_FALSE(grasping("cup")->holds(world()));
 }
 
+// An object of several shapes is graspable from a palm within 3 cm of a part that sticks out
+// beyond the rest (a mug's handle, held on its own), outside the object's box; not from 2 cm
+// beside a cup whose base sits under its wall (nothing sticks out).
+TEST_F(ConditionsTest, GraspableAtAPartThatSticksOut) {
+  const Eigen::Vector3d palm = skills_.frame_pose("left_palm").position;
+  auto shape = [](const Eigen::Vector3d& c, const Eigen::Vector3d& half) {
+    Shape s;
+    s.type = Shape::Type::kBox;
+    s.pose.position = c;
+    s.size = half;
+    return s;
+  };
+  // Body 8 cm across, 9 cm ahead of the palm; a handle from 4 to 7 cm out of it towards the
+  // palm (-x), whose outer face is 2 cm from the palm.
+  const Eigen::Vector3d at = palm + Eigen::Vector3d(0.09, 0, 0);
+  PerceivedObject mug = box_object("mug", at - Eigen::Vector3d(0.07, 0.04, 0.05),
+                                   at + Eigen::Vector3d(0.04, 0.04, 0.05));
+  mug.shapes = {shape(at, {0.04, 0.04, 0.05}),
+                shape(at - Eigen::Vector3d(0.055, 0, 0), {0.015, 0.006, 0.03})};
+  // The body sticks out too, the other way.
+  EXPECT_EQ(protruding_shapes(mug), (std::vector<size_t>{0, 1}));
+  percepts_.observe(mug);
+  EXPECT_TRUE(graspable("mug", "left")->holds(world()));
+  EXPECT_EQ(graspable("mug", "left")->explain(world()), "graspable(mug, left) holds");
+  EXPECT_FALSE(graspable("mug", "right")->holds(world()));
+  // A cup, its wall 2 cm ahead of the palm and a base as wide under it.
+  const Eigen::Vector3d cup_at = palm + Eigen::Vector3d(0.06, 0, 0);
+  PerceivedObject cup = box_object("cup2", cup_at - Eigen::Vector3d(0.04, 0.04, 0.05),
+                                   cup_at + Eigen::Vector3d(0.04, 0.04, 0.05));
+  cup.shapes = {shape(cup_at, {0.04, 0.04, 0.05}),
+                shape(cup_at - Eigen::Vector3d(0, 0, 0.045), {0.04, 0.04, 0.005})};
+  EXPECT_TRUE(protruding_shapes(cup).empty());
+  percepts_.observe(cup);
+  EXPECT_FALSE(graspable("cup2", "left")->holds(world()));
+}
+
 // What the parser says when a condition is called with no arguments: its arity error for a
 // known name, the list of known names for an unknown one.
 std::string parse_error(const std::string& text) {
