@@ -177,13 +177,6 @@ class Grasping final : public Condition {
   std::string a_;
 };
 
-// The world-aligned box round a shape.
-Eigen::AlignedBox3d part_box(const Shape& s) {
-  Eigen::Vector3d half;
-  for (int i = 0; i < 3; ++i) half[i] = s.half_width(Eigen::Vector3d::Unit(i));
-  return {s.pose.position - half, s.pose.position + half};
-}
-
 class Graspable final : public Condition {
  public:
   Graspable(std::string a, std::string side) : a_(std::move(a)), side_(std::move(side)) {}
@@ -205,7 +198,7 @@ class Graspable final : public Condition {
       // own (a mug by its handle).
       if (tool || (h && h->id == a_) || !known) continue;
       for (const size_t i : protruding_shapes(*known)) {
-        if (part_box(known->shapes[i]).exteriorDistance(palm.position) <= kGraspableDistance) {
+        if (known->shapes[i].bounds().exteriorDistance(palm.position) <= kGraspableDistance) {
           return true;
         }
       }

@@ -23,6 +23,12 @@ double Shape::half_width(const Eigen::Vector3d& u) const {
   return 0;
 }
 
+Eigen::AlignedBox3d Shape::bounds() const {
+  Eigen::Vector3d half;
+  for (int i = 0; i < 3; ++i) half[i] = half_width(Eigen::Vector3d::Unit(i));
+  return {pose.position - half, pose.position + half};
+}
+
 std::vector<size_t> protruding_shapes(const PerceivedObject& object) {
   std::vector<size_t> out;
   const std::vector<Shape>& shapes = object.shapes;
@@ -35,11 +41,9 @@ std::vector<size_t> protruding_shapes(const PerceivedObject& object) {
     }
     return far;
   };
-  Eigen::Vector3d centre;
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d u = Eigen::Vector3d::Unit(i);
-    centre[i] = 0.5 * (reach(u, shapes.size()) - reach(-u, shapes.size()));
-  }
+  Eigen::AlignedBox3d all(shapes.front().bounds());
+  for (const Shape& s : shapes) all.extend(s.bounds());
+  const Eigen::Vector3d centre = all.center();
   for (size_t i = 0; i < shapes.size(); ++i) {
     Eigen::Vector3d out_dir = shapes[i].pose.position - centre;
     out_dir.z() = 0;

@@ -26,6 +26,8 @@ struct Shape {
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
   // Half extent of the shape along the world unit direction `u` (its support width).
   double half_width(const Eigen::Vector3d& u) const;
+  // The world-aligned box round it.
+  Eigen::AlignedBox3d bounds() const;
 };
 
 struct PerceivedObject {

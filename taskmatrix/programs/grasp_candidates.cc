@@ -357,12 +357,17 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   if (toward.isZero()) toward = ex;
   const Eigen::Vector3d ey = up.cross(ex);
   const bool round = geometry.round();
+  // How far a hand closing along horizontal `closing` may turn about the vertical.
+  auto turn_about_vertical = [&](const Eigen::Vector3d& closing) {
+    return round ? M_PI / 8 : free_turn(geometry.shapes(), closing, hand.aperture_m);
+  };
   const double bottom = geometry.extent(up).first, top = geometry.extent(up).second;
   std::map<std::string, int> counts;
   auto add = [&](const std::string& family, Eigen::Vector3d at, const Eigen::Vector3d& approach,
                  const Eigen::Vector3d& closing, double width, double half_depth,
-                 const Eigen::Vector3d& free_axis, double turn, double cost) {
-    if (width > hand.aperture_m) return false;  // the fingers cannot pass around it
+                 const Eigen::Vector3d& free_axis, double turn, double cost,
+                 bool fallback = false) {
+    if (width > hand.aperture_m) return;  // the fingers cannot pass around it
     GraspCandidate c;
     c.family = family;
     c.id = family + "." + std::to_string(counts[family]++);
@@ -377,10 +382,10 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       c.free_turn_rad = turn;
     }
     c.score = cost + (width > kLooseFit * hand.aperture_m ? 10.0 : 0.0);
+    c.fallback = fallback;
     // A hand coming down whose fingers would reach the support even held back: the last resort.
     if (c.approach.z() < -kDownward && c.place(hand, 0).support_gap_m < 0) c.score += 20.0;
     out.push_back(c);
-    return true;
   };
 
   // A tool: the fingers wrap its handle, across the handle's axis, from above first.
@@ -418,8 +423,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
     }
     for (const Eigen::Vector3d& closing : closings) {
       for (double sign : {1.0, -1.0}) {
-        const double turn =
-            round ? M_PI / 8 : free_turn(geometry.shapes(), closing, hand.aperture_m);
+        const double turn = turn_about_vertical(closing);
         add("top", centre, -up, sign * closing, geometry.width(closing), top - centre.z(), up, turn,
             0.3);
       }
@@ -441,9 +445,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   for (int vertical = 0; vertical < 2; ++vertical) {
     for (const Eigen::Vector3d& a : approaches) {
       const Eigen::Vector3d closing = vertical ? up : Eigen::Vector3d(up.cross(a).normalized());
-      const double turn = vertical ? 0.0
-                          : round  ? M_PI / 8
-                                   : free_turn(geometry.shapes(), closing, hand.aperture_m);
+      const double turn = vertical ? 0.0 : turn_about_vertical(closing);
       const double cost = angle_between(a, toward) / M_PI + (vertical ? 0.6 : 0.0);
       for (double sign : {1.0, -1.0}) {
         add("side", centre, a, sign * closing, geometry.width(closing), geometry.width(a) / 2, up,
@@ -463,10 +465,8 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       const double turn = free_turn({part}, closing, hand.aperture_m);
       const double cost = kPartCost + angle_between(a, toward) / M_PI + std::abs(yaw);
       for (double sign : {1.0, -1.0}) {
-        if (add("part", part.pose.position, a, sign * closing, 2 * part.half_width(closing),
-                part.half_width(a), up, turn, cost)) {
-          out.back().fallback = true;
-        }
+        add("part", part.pose.position, a, sign * closing, 2 * part.half_width(closing),
+            part.half_width(a), up, turn, cost, true);
       }
     }
   }
@@ -476,13 +476,11 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   if (kRaiseM <= kMaxRaiseShare * (top - centre.z()) + 1e-6) {
     for (const Eigen::Vector3d& a : approaches) {
       const Eigen::Vector3d closing = up.cross(a).normalized();
-      const double turn = round ? M_PI / 8 : free_turn(geometry.shapes(), closing, hand.aperture_m);
+      const double turn = turn_about_vertical(closing);
       const double cost = kRaisedCost + angle_between(a, toward) / M_PI;
       for (double sign : {1.0, -1.0}) {
-        if (add("side", centre + kRaiseM * up, a, sign * closing, geometry.width(closing),
-                geometry.width(a) / 2, up, turn, cost)) {
-          out.back().fallback = true;
-        }
+        add("side", centre + kRaiseM * up, a, sign * closing, geometry.width(closing),
+            geometry.width(a) / 2, up, turn, cost, true);
       }
     }
   }

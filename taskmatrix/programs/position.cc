@@ -175,25 +175,21 @@ class Position final : public core::TaskProgram {
                            "no placement satisfies " + resting->describe());
     }
     const Eigen::Vector3d offset = now.position - held.box.center();
-    // Clear of what else stands there (another object's box within kPlacementGapM across:
-    // the cup put down a moment ago) before the rest; then nearest the object first.
+    std::sort(boxes.begin(), boxes.end(), [&](const auto& a, const auto& b) {
+      return (a.center() - held.box.center()).squaredNorm() <
+             (b.center() - held.box.center()).squaredNorm();
+    });
+    // Those clear of what else stands there (another object's box within kPlacementGapM across:
+    // the cup put down a moment ago) first, each group nearest the object first.
     const Eigen::Vector3d gap(kPlacementGapM, kPlacementGapM, 0);
-    auto clear = [&](const Eigen::AlignedBox3d& box) {
+    std::stable_partition(boxes.begin(), boxes.end(), [&](const Eigen::AlignedBox3d& box) {
       const Eigen::AlignedBox3d grown(box.min() - gap, box.max() + gap);
       for (const auto& [id, o] : ctx.percepts().objects()) {
         if (id == object_ || o.type == "surface" || o.type == "humanoid") continue;
         if (grown.intersects(o.box)) return false;
       }
       return true;
-    };
-    std::vector<std::pair<bool, Eigen::AlignedBox3d>> ranked;
-    for (const Eigen::AlignedBox3d& box : boxes) ranked.emplace_back(!clear(box), box);
-    std::stable_sort(ranked.begin(), ranked.end(), [&](const auto& a, const auto& b) {
-      if (a.first != b.first) return !a.first;
-      return (a.second.center() - held.box.center()).squaredNorm() <
-             (b.second.center() - held.box.center()).squaredNorm();
     });
-    for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = ranked[i].second;
     boxes.resize(std::min<size_t>(boxes.size(), 6));
     for (const Eigen::AlignedBox3d& box : boxes) {
       points.push_back(box.center() + offset + Eigen::Vector3d(0, 0, height_));

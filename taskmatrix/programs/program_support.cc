@@ -427,8 +427,6 @@ std::optional<core::Failure> ArmMotion::reach_from_here(core::ProgramContext& ct
                            (std::isfinite(best_miss_m_) ? buf : " (" + why + ")"));
 }
 
-namespace {}  // namespace
-
 bool found_no_way(const core::Failure& failure) {
   switch (failure.code) {
     case core::FailureCode::kIkFailure:

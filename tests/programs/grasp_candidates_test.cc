@@ -211,16 +211,7 @@ core::PerceivedObject object_of(const std::vector<core::Shape>& shapes) {
   o.pose.position = {0.5, 0.3, 0.75};
   o.shapes = shapes;
   o.box.setEmpty();
-  for (const core::Shape& s : shapes) {
-    for (int i = 0; i < 3; ++i) {
-      const double h = s.half_width(Eigen::Vector3d::Unit(i));
-      Eigen::Vector3d lo = s.pose.position, hi = s.pose.position;
-      lo[i] -= h;
-      hi[i] += h;
-      o.box.extend(lo);
-      o.box.extend(hi);
-    }
-  }
+  for (const core::Shape& s : shapes) o.box.extend(s.bounds());
   return o;
 }
 
