@@ -18,6 +18,8 @@ namespace {
 constexpr double kEndpointRadius = 0.25;  // rad or m
 // Below this (m), the clearance near an endpoint is left to the contact check itself.
 constexpr double kMinRampClearance = 1e-4;
+// The share of the start's own clearance from the world that the states near it keep.
+constexpr double kStartFloorShare = 0.5;
 // How many times closer the checks along a motion are near an endpoint.
 constexpr double kFineChecks = 5;
 constexpr double kMaxTimeLimitS = 86400;  // beyond it, planners' deadline arithmetic overflows
@@ -202,10 +204,13 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
                   mj_id2name(m, mjOBJ_JOINT, joints_[i]), start[i], lo[i], hi[i]);
     return fail(core::PlanStatus::kInvalidStart, buf);
   }
-  const bool start_touches_allowed =
-      touching && !touching->static_collision() && !touching->in_collision(start.data());
-  if (!start_touches_allowed &&
-      (checker.static_collision() || checker.in_collision(start.data()))) {
+  // A start in contact may be left through contact with what it may touch; a start clear of
+  // everything is left as any other (the clearance below).
+  const bool start_in_contact = checker.static_collision() || checker.in_collision(start.data());
+  const bool start_touches_allowed = start_in_contact && touching &&
+                                     !touching->static_collision() &&
+                                     !touching->in_collision(start.data());
+  if (start_in_contact && !start_touches_allowed) {
     const std::string contacts = describe_robot_contacts(scene_, m, d, attachments_);
     restore();
     return fail(core::PlanStatus::kInvalidStart,
@@ -217,10 +222,14 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
 
   // Clearance: states keep o.clearance_m from obstacles, except within kEndpointRadius (joint
   // space, max-norm) of the start or a goal, which may be closer (a hand next to what it will
-  // grasp): there the clearance asked for grows from nothing at the endpoint to o.clearance_m
+  // grasp): there the clearance asked for grows from the endpoint's floor to o.clearance_m
   // at the radius, so a path leaves an endpoint's surroundings instead of sliding along them.
-  // Without it, simplified paths graze obstacles and execution, which tracks the path only to
-  // within a few millimetres, touches them.
+  // A goal's floor is nothing; the start's is half its own clearance from the world (at most
+  // o.clearance_m): a path from a start clear of everything does not dive towards what is
+  // near it on the way out (a hand a centimetre above the table, fingers beside what it has
+  // just let go of). Without the ramp, simplified paths graze obstacles and execution, which
+  // tracks the path only to within a few millimetres (physics: the arm's lag, the fingers
+  // swinging as it accelerates), touches them.
   auto distance_from = [&](const double* v, const std::vector<double>& e) {
     double dist = 0;
     for (size_t i = 0; i < n; ++i) dist = std::max(dist, std::abs(v[i] - e[i]));
@@ -230,13 +239,31 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     return distance_from(v, e) <= kEndpointRadius;
   };
   core::PlanningProblem problem;
-  auto endpoint_distance = [&](const double* v) {
-    double dist = distance_from(v, start);
-    // The goals planned to (problem.goals, filled below), not those dropped as invalid.
-    for (const auto& g : problem.goals) dist = std::min(dist, distance_from(v, g));
-    return dist;
-  };
   const double clearance = o.clearance_m;
+  // The start's own clearance, as the clearance test below measures it (held objects against
+  // the robot too): the largest margin, to a twentieth of o.clearance_m, with nothing within it.
+  double start_clear = 0;
+  if (clearance > 0 && !start_touches_allowed) {
+    double clear = 0, blocked = clearance;
+    if (!checker.within_margin(start.data(), blocked, /*count=*/false)) clear = blocked;
+    while (blocked - clear > clearance / 20) {
+      const double mid = 0.5 * (clear + blocked);
+      (checker.within_margin(start.data(), mid, /*count=*/false) ? blocked : clear) = mid;
+    }
+    start_clear = clear;
+  }
+  const double start_floor = kStartFloorShare * start_clear;
+  // The clearance asked for at `v` near an endpoint (see above): the smallest the endpoints'
+  // ramps ask.
+  auto ramp_clearance = [&](const double* v) {
+    auto ramp = [&](double floor, double from_end) {
+      return floor + (clearance - floor) * std::min(1.0, from_end / kEndpointRadius);
+    };
+    double needed = ramp(start_floor, distance_from(v, start));
+    // The goals planned to (problem.goals, filled below), not those dropped as invalid.
+    for (const auto& g : problem.goals) needed = std::min(needed, ramp(0.0, distance_from(v, g)));
+    return needed;
+  };
   for (size_t i = 0; i < n; ++i) {
     const char* joint = mj_id2name(m, mjOBJ_JOINT, joints_[i]);
     problem.joint_names.push_back(joint ? joint : "");
@@ -248,10 +275,9 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     if (start_touches_allowed && near(v, start)) return !touching->in_collision(v);
     if (clearance > 0) {
       if (!checker.within_margin(v, clearance)) return true;
-      const double from_end = endpoint_distance(v);
-      if (from_end > kEndpointRadius) return false;
       // Nothing within `needed` means no contact either.
-      const double needed = clearance * from_end / kEndpointRadius;
+      const double needed = ramp_clearance(v);
+      if (needed >= clearance) return false;
       if (needed > kMinRampClearance) return !checker.within_margin(v, needed, /*count=*/false);
     }
     return !checker.in_collision(v, /*count=*/clearance <= 0);

@@ -23,9 +23,10 @@ using core::PlanOptions;
 class MotionPlanner {
  public:
   // Plans for `joints` (robot hinge/slide joint ids) on model `m` and data `d` (its qpos is
-  // the start; every other joint stays where it is), with `attachments` held. The start, and
-  // states within the endpoint radius of it, may touch `touch_geoms` up to kTouchDepth of
-  // penetration (PlanOptions::may_touch): a plan may start against what a hand let go of.
+  // the start; every other joint stays where it is), with `attachments` held. A start in
+  // contact, and states within the endpoint radius of it, may touch `touch_geoms` up to
+  // kTouchDepth of penetration (PlanOptions::may_touch): a plan may start against what a hand
+  // let go of. A start clear of everything is left as any other, `touch_geoms` or not.
   MotionPlanner(const Scene& scene, const mjModel* m, mjData* d, std::vector<int> joints,
                 std::vector<Attachment> attachments = {}, std::vector<int> touch_geoms = {});
   static constexpr double kTouchDepth = 0.005;

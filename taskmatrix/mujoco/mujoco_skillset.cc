@@ -526,7 +526,7 @@ void MujocoSkillset::step_physics() {
     servo_.actuate(m, d, t_end - (d->time + m->opt.timestep));
     mj_step2(m, d);  // actuation, accelerations, contact forces, integration
     pruning_.after_integration(m, d);
-    world_.drive_visitor(d, d->time);
+    world_.drive_visitor(m, d, d->time, held_);
     if (!held_.empty()) {
       mj_kinematics(m, d);
       place_attachments(m, d, held_.list());
@@ -552,7 +552,7 @@ void MujocoSkillset::step_kinematic() {
   for (int s = 0; s < substeps_; ++s) d->time += m->opt.timestep;
   robot_qpos_before_.assign(d->qpos, d->qpos + m->nq);
   servo_.place_at_targets(d);
-  world_.drive_visitor(d, d->time);
+  world_.drive_visitor(m, d, d->time, held_);
   mj_kinematics(m, d);
   if (!held_.empty()) {
     place_attachments(m, d, held_.list());

@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 namespace taskmatrix::mujoco {
 
 WorldScript::WorldScript(const Scene& scene, const mjModel* m) : scene_(scene) {
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (scene_.is_robot_geom(g)) robot_geoms_.push_back(g);
+  }
   for (const auto& [name, spec] : scene_.environment().objects) {
     for (const std::string& b : spec.bodies) {
       const int body = mj_name2id(m, mjOBJ_BODY, b.c_str());
@@ -43,6 +47,23 @@ void WorldScript::set_visitor_walk(const mjModel* m, double speed_mps) {
     visitor_qpos_[k] = m->jnt_qposadr[j];
     visitor_dof_[k] = m->jnt_dofadr[j];
   }
+  // Its radius: the farthest any of its geoms' bounding spheres reaches from its vertical axis,
+  // as it stands in the model.
+  visitor_body_ = body;
+  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
+  mj_kinematics(m, d.get());
+  const Eigen::Vector2d axis(d->xpos[3 * body], d->xpos[3 * body + 1]);
+  visitor_radius_ = 0;
+  for (int g = 0; g < m->ngeom; ++g) {
+    int b = m->geom_bodyid[g];
+    while (b > 0 && b != body) b = m->body_parentid[b];
+    if (b != body) continue;
+    const Eigen::Vector2d at(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1]);
+    visitor_radius_ = std::max(visitor_radius_, (at - axis).norm() + m->geom_rbound[g]);
+  }
+  visitor_walked_ = 0;
+  visitor_time_ = 0;
+  visitor_turns_ = 0;
   visitor_arc_ = {0.0};
   for (size_t i = 1; i < v.path.size(); ++i) {
     visitor_arc_.push_back(visitor_arc_.back() + std::hypot(v.path[i][0] - v.path[i - 1][0],
@@ -51,29 +72,66 @@ void WorldScript::set_visitor_walk(const mjModel* m, double speed_mps) {
   visitor_speed_ = speed_mps;
 }
 
-void WorldScript::drive_visitor(mjData* d, double time) const {
-  if (visitor_speed_ <= 0) return;
+Eigen::Vector2d WorldScript::visitor_at(double walked, Eigen::Vector2d* heading) const {
   const auto& path = scene_.environment().visitor.path;
   const std::vector<double>& at = visitor_arc_;  // arc length at each waypoint
   const double length = at.back();
-  if (length <= 0) return;
-  double s = std::fmod(visitor_speed_ * time, 2 * length);
+  double s = std::fmod(walked, 2 * length);
   const bool back = s > length;
   if (back) s = 2 * length - s;
   size_t i = 1;
   while (i + 1 < at.size() && at[i] < s) ++i;
   const double seg = at[i] - at[i - 1];
   const double f = seg > 0 ? (s - at[i - 1]) / seg : 0;
-  double dx = path[i][0] - path[i - 1][0], dy = path[i][1] - path[i - 1][1];
-  const double x = path[i - 1][0] + f * dx, y = path[i - 1][1] + f * dy;
-  if (back) dx = -dx, dy = -dy;
-  const double norm = std::hypot(dx, dy);
+  Eigen::Vector2d step(path[i][0] - path[i - 1][0], path[i][1] - path[i - 1][1]);
+  const Eigen::Vector2d place = Eigen::Vector2d(path[i - 1][0], path[i - 1][1]) + f * step;
+  if (back) step = -step;
+  if (heading) *heading = step.normalized();
+  return place;
+}
+
+double WorldScript::room_from_robot(const mjModel* m, const mjData* d, const Eigen::Vector2d& at,
+                                    const HeldObjects& held) const {
+  double room = INFINITY;
+  auto measure = [&](int g) {
+    const Eigen::Vector2d p(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1]);
+    room = std::min(room, (p - at).norm() - m->geom_rbound[g] - visitor_radius_);
+  };
+  for (int g : robot_geoms_) measure(g);
+  for (const Attachment& a : held.list()) {
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->body_rootid[m->geom_bodyid[g]] == a.body) measure(g);
+    }
+  }
+  return room;
+}
+
+void WorldScript::drive_visitor(const mjModel* m, mjData* d, double time, const HeldObjects& held) {
+  if (visitor_speed_ <= 0 || visitor_arc_.back() <= 0) return;
+  const double dt = std::max(0.0, time - visitor_time_);
+  visitor_time_ = time;
+  const Eigen::Vector2d origin(scene_.environment().visitor.path[0][0],
+                               scene_.environment().visitor.path[0][1]);
+  Eigen::Vector2d heading;
+  const Eigen::Vector2d here = visitor_at(visitor_walked_, nullptr);
+  const double step = visitor_speed_ * dt;
+  Eigen::Vector2d place = visitor_at(visitor_walked_ + step, &heading);
+  const double room_next = room_from_robot(m, d, place, held);
+  if (room_next < kVisitorYieldM && room_next < room_from_robot(m, d, here, held)) {
+    // The robot is in the way: it turns round (the same place on the path, walked the other
+    // way) and walks back.
+    const double length = visitor_arc_.back();
+    visitor_walked_ = 2 * length - std::fmod(visitor_walked_, 2 * length);
+    ++visitor_turns_;
+    place = visitor_at(visitor_walked_ + step, &heading);
+  }
+  visitor_walked_ += step;
   // Joint values are offsets from the first waypoint; heading = pi + yaw (facing -x at 0).
-  d->qpos[visitor_qpos_[0]] = x - path[0][0];
-  d->qpos[visitor_qpos_[1]] = y - path[0][1];
-  d->qpos[visitor_qpos_[2]] = std::remainder(std::atan2(dy, dx) - M_PI, 2 * M_PI);
-  d->qvel[visitor_dof_[0]] = visitor_speed_ * dx / norm;
-  d->qvel[visitor_dof_[1]] = visitor_speed_ * dy / norm;
+  d->qpos[visitor_qpos_[0]] = place.x() - origin.x();
+  d->qpos[visitor_qpos_[1]] = place.y() - origin.y();
+  d->qpos[visitor_qpos_[2]] = std::remainder(std::atan2(heading.y(), heading.x()) - M_PI, 2 * M_PI);
+  d->qvel[visitor_dof_[0]] = visitor_speed_ * heading.x();
+  d->qvel[visitor_dof_[1]] = visitor_speed_ * heading.y();
   d->qvel[visitor_dof_[2]] = 0;
 }
 

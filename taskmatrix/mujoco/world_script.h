@@ -1,6 +1,10 @@
 // The world's own behaviour beyond physics, for one worker's model:
 //   - The visitor walks its environment path back and forth at set_visitor_walk's speed,
-//     facing where it goes (driven kinematically; 0, the default, leaves it standing).
+//     facing where it goes (driven kinematically; 0, the default, leaves it standing). As a
+//     person does, it does not walk into the robot: where a step would bring it within
+//     kVisitorYieldM of the robot or what it holds (seen from above, every geom's bounding
+//     sphere against the visitor's own radius), and closer than it is, it turns round and
+//     walks back the way it came. Nothing stops a robot coming to it.
 //   - A debris flake is removed (moved out of the world) when the tip of a held tool passes
 //     over it: tip within kDebrisPickupRadius of its centre horizontally and at most
 //     kDebrisPickupHeight above it.
@@ -18,6 +22,7 @@ namespace taskmatrix::mujoco {
 
 inline constexpr double kDebrisPickupRadius = 0.035;  // m, horizontal, tip to flake centre
 inline constexpr double kDebrisPickupHeight = 0.06;   // m, tip above the flake's centre
+inline constexpr double kVisitorYieldM = 0.10;        // m, the room the visitor leaves the robot
 
 class WorldScript {
  public:
@@ -28,8 +33,11 @@ class WorldScript {
   // negative or non-finite speed, or an environment whose visitor is not a (slide x, slide y,
   // hinge) body with a path of two or more points.
   void set_visitor_walk(const mjModel* m, double speed_mps);
-  // The visitor's joints at `time` (seconds of walking), in `d`.
-  void drive_visitor(mjData* d, double time) const;
+  // Walks the visitor on to simulated `time` (the first call after set_visitor_walk walks from
+  // time 0), in `d`, with the robot and what `held` holds where `d`'s geom poses have them.
+  void drive_visitor(const mjModel* m, mjData* d, double time, const HeldObjects& held);
+  // How many times the visitor has turned round for the robot since set_visitor_walk.
+  int visitor_turns() const { return visitor_turns_; }
 
   // The flakes' places are where `m` has them now (after a task variation moved them).
   void note_debris_places(const mjModel* m);
@@ -44,7 +52,19 @@ class WorldScript {
 
  private:
   const Scene& scene_;
+  // The visitor's place on its path after walking `walked` metres (there and back again).
+  Eigen::Vector2d visitor_at(double walked, Eigen::Vector2d* heading) const;
+  // Horizontal room between the visitor standing at `at` and the robot or what it holds.
+  double room_from_robot(const mjModel* m, const mjData* d, const Eigen::Vector2d& at,
+                         const HeldObjects& held) const;
+
   double visitor_speed_ = 0;
+  double visitor_radius_ = 0;  // m: the farthest its geoms reach from its vertical axis
+  double visitor_walked_ = 0;  // m along the path (there and back again)
+  double visitor_time_ = 0;    // s: the simulated time it has walked to
+  int visitor_turns_ = 0;
+  int visitor_body_ = -1;
+  std::vector<int> robot_geoms_;
   std::vector<double> visitor_arc_;              // arc length along the path at each waypoint
   std::array<int, 3> visitor_qpos_{-1, -1, -1};  // x, y, yaw
   std::array<int, 3> visitor_dof_{-1, -1, -1};

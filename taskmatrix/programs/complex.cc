@@ -175,6 +175,9 @@ MachineSpec greet() {
               // An arm left out over the furniture (after a putdown) sweeps into it as the
               // base turns: the arms come down (and a bent torso up) before finding again.
               state("tuck", "postural", lower_with_torso), state("find_again", "fixate", find),
+              // Still wedged (between two pieces of furniture, the first step taken towards the
+              // other): one more step back, from whatever is nearest now, and a last look.
+              state("make_more_room", "retreat", step_back), state("find_last", "fixate", find),
               state("raise", "postural", raise, in_view), state("wave", "canned", wave, in_view),
               // The target walked out of view while the arm rose or waved: find it again
               // (the base turning too) and wave once more.
@@ -199,6 +202,9 @@ MachineSpec greet() {
                    on_completed("make_room", "tuck"),
                    on_completed("tuck", "find_again"),
                    on_failed("tuck", "find_again"),
+                   on_failed("find_again", "make_more_room"),
+                   on_completed("make_more_room", "find_last"),
+                   on_completed("find_last", "raise"),
                    on_failed("lower", "make_room_to_lower"),
                    on_completed("make_room_to_lower", "lower_again"),
                    on_completed("lower_again", "look"),

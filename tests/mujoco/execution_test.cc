@@ -200,8 +200,8 @@ void expect_same_contacts(const mjData* a, const mjData* b, const std::string& w
   const std::vector<const mjContact*> x = sorted(a), y = sorted(b);
   for (size_t i = 0; i < x.size(); ++i) {
     const mjContact &p = *x[i], &q = *y[i];
-    const std::string at = where + ", contact of geoms " + std::to_string(p.geom1) + " and " +
-                           std::to_string(p.geom2);
+    const std::string at =
+        where + ", contact of geoms " + std::to_string(p.geom1) + " and " + std::to_string(p.geom2);
     ASSERT_EQ(p.geom1, q.geom1) << at;
     ASSERT_EQ(p.geom2, q.geom2) << at;
     EXPECT_EQ(p.dist, q.dist) << at;
@@ -249,8 +249,8 @@ TEST_P(ExecutionOnBothRobots, TheCandidatePairsFindTheContactsMuJoCoFinds) {
   const core::Trajectory& motion = *planned;
   for (int k = 0; k * skills->control_period() < motion.duration(); ++k) {
     const core::TrajectorySample s = motion.sample(k * skills->control_period());
-    skills->command(chains, std::vector<double>(s.position.data(),
-                                                s.position.data() + s.position.size()));
+    skills->command(chains,
+                    std::vector<double>(s.position.data(), s.position.data() + s.position.size()));
     skills->advance();
     compare("period " + std::to_string(k));
   }
@@ -468,6 +468,43 @@ TEST_P(ExecutionOnBothRobots, AHeldObjectCollidesWithEverythingButTheHandHolding
   EXPECT_EQ(cup_box_contacts(), 0) << "the hold let the box collide with the cup";
   EXPECT_EQ(cup_contacts(true), 0);
   pruning.end(m);
+}
+
+TEST_P(ExecutionOnBothRobots, TheVisitorTurnsRoundRatherThanWalkIntoARobotInItsWay) {
+  // The robot stands on the visitor's path (x = 2.5 from y = -1 to 1 in the kitchen), the
+  // visitor walks towards it at 1 m/s: it turns round short of the robot and walks back,
+  // touching nothing, in both execution modes.
+  for (const ExecutionMode mode : {ExecutionMode::kKinematic, ExecutionMode::kPhysics}) {
+    SimulationOptions options;
+    options.execution = mode;
+    auto skills = std::make_unique<MujocoSkillset>(test::scene(GetParam(), "kitchen"), options);
+    const double robot_y = 0.3;
+    core::TrialLayout layout;
+    layout.variation.robot_start = core::RobotStart{2.5, robot_y, M_PI / 2};
+    skills->apply_layout(layout);
+    skills->reset();
+    const mjModel* m = skills->model();
+    const int visitor_y = m->jnt_qposadr[mj_name2id(m, mjOBJ_JOINT, "visitor_y")];
+    const std::vector<double> base = skills->configuration({"base"});
+    ASSERT_NEAR(base[0], 2.5, 0.01) << to_string(mode);
+    ASSERT_NEAR(base[1], robot_y, 0.01) << to_string(mode);
+    skills->set_visitor_walk(1.0);
+    // Where it got to, and how far back it walked after that.
+    double farthest = -INFINITY, back_after = INFINITY;
+    int touching = 0;
+    for (int k = 0; k * skills->control_period() < 4.0; ++k) {
+      skills->advance();
+      const double y = -1.0 + skills->sim_data()->qpos[visitor_y];
+      if (y > farthest) farthest = y, back_after = y;
+      back_after = std::min(back_after, y);
+      for (const core::Collision& c : skills->collisions({"base"}))
+        touching += c.other == "visitor";
+    }
+    EXPECT_EQ(touching, 0) << to_string(mode);
+    EXPECT_LT(farthest, robot_y - 0.3) << to_string(mode) << ": it walked into the robot";
+    EXPECT_GT(farthest, robot_y - 1.0) << to_string(mode) << ": it turned round far away";
+    EXPECT_LT(back_after, farthest - 0.3) << to_string(mode) << ": it did not walk back";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, ExecutionOnBothRobots, ::testing::Values("tallbot", "minibot"));
