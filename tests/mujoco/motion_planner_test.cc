@@ -359,6 +359,69 @@ TEST_P(PlanOnBothRobots, AnytimePlannersRepeatUnderAnIterationBudgetAndReportThe
   EXPECT_EQ(planner.plan({goal}, huge).status, core::PlanStatus::kInvalidInput);
 }
 
+// The torso and the left arm of a robot (bending, every robot's hand gets near the table) as
+// the clearance tests plan them: the joints, draws within their limits, and the states the
+// planner checks along each motion of a path (core::motion_check_points with the planner's
+// spacing for `options`, finer within `radius` of the start and goal).
+class TorsoAndLeftArm {
+ public:
+  TorsoAndLeftArm(const Scene& scene, const PlanOptions& options, double radius, std::uint64_t seed)
+      : rng_(seed) {
+    for (const char* name : {"torso", "left_arm"}) {
+      const ChainIndex& c = scene.chain(name);
+      joints.insert(joints.end(), c.joints.begin(), c.joints.end());
+      spacing_.lower.insert(spacing_.lower.end(), c.lower.begin(), c.lower.end());
+      spacing_.upper.insert(spacing_.upper.end(), c.upper.begin(), c.upper.end());
+    }
+    spacing_.motion_resolution = options.motion_resolution;
+    spacing_.fine_radius = radius;
+    spacing_.fine_resolution = options.motion_resolution / 5;
+  }
+  std::vector<double> draw() {
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<double> q(joints.size());
+    for (size_t i = 0; i < q.size(); ++i) {
+      q[i] = spacing_.lower[i] + (spacing_.upper[i] - spacing_.lower[i]) * u(rng_);
+    }
+    return q;
+  }
+  void set(WorkerScene& worker, const std::vector<double>& q) const {
+    for (size_t i = 0; i < q.size(); ++i)
+      worker.data()->qpos[worker.model()->jnt_qposadr[joints[i]]] = q[i];
+  }
+  std::vector<std::vector<double>> checked_states(const core::PlanResult& r,
+                                                  const std::vector<double>& start,
+                                                  const std::vector<double>& goal) {
+    spacing_.start = start;
+    spacing_.goals = {goal};
+    std::vector<std::vector<double>> out;
+    for (size_t w = 0; w + 1 < r.path.size(); ++w) {
+      const std::vector<double>& a = r.path[w];
+      const std::vector<double>& b = r.path[w + 1];
+      std::vector<double> ts = core::motion_check_points(spacing_, a.data(), b.data());
+      ts.push_back(1);
+      for (double t : ts) {
+        std::vector<double> q(a.size());
+        for (size_t i = 0; i < q.size(); ++i) q[i] = a[i] + t * (b[i] - a[i]);
+        out.push_back(std::move(q));
+      }
+    }
+    return out;
+  }
+
+  std::vector<int> joints;
+
+ private:
+  core::PlanningProblem spacing_;
+  std::mt19937_64 rng_;
+};
+
+double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) {
+  double e = 0;
+  for (size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
+  return e;
+}
+
 // A path keeps 1 cm from the world except near its start and goal (a hand beside what it
 // grasps), and there only in proportion: the clearance asked for grows from nothing at the
 // endpoint to the full centimetre 0.25 rad (every joint) away from it, so a path leaves a start
@@ -369,47 +432,18 @@ TEST_P(PlanOnBothRobots, PathsLeaveAStartAHairOffTheWorldWithClearanceGrowingAwa
   WorkerScene worker(scene);
   worker.apply_layout(scene->make_layout(8, 5));
   worker.reset_to_start();
-  // The torso and an arm: bending, every robot's hand gets near the table.
-  std::vector<int> joints;
-  std::vector<double> lower, upper;
-  for (const char* name : {"torso", "left_arm"}) {
-    const ChainIndex& c = scene->chain(name);
-    joints.insert(joints.end(), c.joints.begin(), c.joints.end());
-    lower.insert(lower.end(), c.lower.begin(), c.lower.end());
-    upper.insert(upper.end(), c.upper.begin(), c.upper.end());
-  }
   const double radius = 0.25;
   PlanOptions options;
   options.time_limit_s = 10;
   const double wanted = options.clearance_m;
-  core::PlanningProblem spacing;  // the planner's check spacing for this chain
-  spacing.lower = lower;
-  spacing.upper = upper;
-  spacing.motion_resolution = options.motion_resolution;
-  spacing.fine_radius = radius;
-  spacing.fine_resolution = options.motion_resolution / 5;
-  auto set = [&](const std::vector<double>& q) {
-    for (size_t i = 0; i < q.size(); ++i)
-      worker.data()->qpos[worker.model()->jnt_qposadr[joints[i]]] = q[i];
-  };
-  auto max_abs_diff = [](const std::vector<double>& a, const std::vector<double>& b) {
-    double e = 0;
-    for (size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
-    return e;
-  };
-  std::mt19937_64 rng(21);
-  std::uniform_real_distribution<double> u(0, 1);
-  auto draw = [&] {
-    std::vector<double> q(joints.size());
-    for (size_t i = 0; i < q.size(); ++i) q[i] = lower[i] + (upper[i] - lower[i]) * u(rng);
-    return q;
-  };
+  TorsoAndLeftArm body(*scene, options, radius, 21);
+  const std::vector<int>& joints = body.joints;
   int problems = 0, checked = 0, short_of = 0, ramp_states = 0;
   std::string worst;
   double worst_ratio = INFINITY;
   for (int k = 0; k < 40000 && problems < 8; ++k) {
-    const std::vector<double> start = draw();
-    const std::vector<double> goal = draw();
+    const std::vector<double> start = body.draw();
+    const std::vector<double> goal = body.draw();
     {
       ValidityChecker checker(*scene, worker.model(), worker.data(), joints);
       if (checker.in_collision(start.data()) || checker.in_collision(goal.data())) continue;
@@ -418,34 +452,24 @@ TEST_P(PlanOnBothRobots, PathsLeaveAStartAHairOffTheWorldWithClearanceGrowingAwa
       if (checker.distance_to_world(goal.data(), wanted) < wanted) continue;
     }
     worker.reset_to_start();
-    set(start);
+    body.set(worker, start);
     MotionPlanner planner(*scene, worker, joints);
     options.seed = static_cast<std::uint32_t>(problems + 1);
     const core::PlanResult r = planner.plan({goal}, options);
     if (r.status != core::PlanStatus::kExactSolution) continue;
     ++problems;
-    spacing.start = start;
-    spacing.goals = {goal};
     ValidityChecker checker(*scene, worker.model(), worker.data(), joints);
-    for (size_t w = 0; w + 1 < r.path.size(); ++w) {
-      const std::vector<double>& a = r.path[w];
-      const std::vector<double>& b = r.path[w + 1];
-      std::vector<double> ts = core::motion_check_points(spacing, a.data(), b.data());
-      ts.push_back(1);
-      for (double t : ts) {
-        std::vector<double> q(a.size());
-        for (size_t i = 0; i < q.size(); ++i) q[i] = a[i] + t * (b[i] - a[i]);
-        const double from_end = std::min(max_abs_diff(q, start), max_abs_diff(q, goal));
-        const double needed = wanted * std::min(from_end, radius) / radius;
-        const double have = checker.distance_to_world(q.data(), wanted);
-        ++checked;
-        if (from_end < radius) ++ramp_states;
-        if (have < needed - 1e-4) ++short_of;
-        if (needed > 1e-3 && have / needed < worst_ratio) {
-          worst_ratio = have / needed;
-          worst = std::to_string(have * 1000) + " mm at " + std::to_string(from_end) +
-                  " rad from an end";
-        }
+    for (const std::vector<double>& q : body.checked_states(r, start, goal)) {
+      const double from_end = std::min(max_abs_diff(q, start), max_abs_diff(q, goal));
+      const double needed = wanted * std::min(from_end, radius) / radius;
+      const double have = checker.distance_to_world(q.data(), wanted);
+      ++checked;
+      if (from_end < radius) ++ramp_states;
+      if (have < needed - 1e-4) ++short_of;
+      if (needed > 1e-3 && have / needed < worst_ratio) {
+        worst_ratio = have / needed;
+        worst =
+            std::to_string(have * 1000) + " mm at " + std::to_string(from_end) + " rad from an end";
       }
     }
     worker.reset_to_start();
@@ -466,14 +490,6 @@ TEST_P(PlanOnBothRobots, PathsFromAStartClearOfTheWorldKeepHalfItsClearanceOnThe
   WorkerScene worker(scene);
   worker.apply_layout(scene->make_layout(8, 5));
   worker.reset_to_start();
-  std::vector<int> joints;
-  std::vector<double> lower, upper;
-  for (const char* name : {"torso", "left_arm"}) {
-    const ChainIndex& c = scene->chain(name);
-    joints.insert(joints.end(), c.joints.begin(), c.joints.end());
-    lower.insert(lower.end(), c.lower.begin(), c.lower.end());
-    upper.insert(upper.end(), c.upper.begin(), c.upper.end());
-  }
   const int cup = mj_name2id(worker.model(), mjOBJ_BODY, "cup");
   ASSERT_GE(cup, 0);
   std::vector<int> cup_geoms;
@@ -484,33 +500,13 @@ TEST_P(PlanOnBothRobots, PathsFromAStartClearOfTheWorldKeepHalfItsClearanceOnThe
   PlanOptions options;
   options.time_limit_s = 10;
   const double wanted = options.clearance_m;
-  core::PlanningProblem spacing;
-  spacing.lower = lower;
-  spacing.upper = upper;
-  spacing.motion_resolution = options.motion_resolution;
-  spacing.fine_radius = radius;
-  spacing.fine_resolution = options.motion_resolution / 5;
-  auto set = [&](const std::vector<double>& q) {
-    for (size_t i = 0; i < q.size(); ++i)
-      worker.data()->qpos[worker.model()->jnt_qposadr[joints[i]]] = q[i];
-  };
-  auto max_abs_diff = [](const std::vector<double>& a, const std::vector<double>& b) {
-    double e = 0;
-    for (size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
-    return e;
-  };
-  std::mt19937_64 rng(23);
-  std::uniform_real_distribution<double> u(0, 1);
-  auto draw = [&] {
-    std::vector<double> q(joints.size());
-    for (size_t i = 0; i < q.size(); ++i) q[i] = lower[i] + (upper[i] - lower[i]) * u(rng);
-    return q;
-  };
+  TorsoAndLeftArm body(*scene, options, radius, 23);
+  const std::vector<int>& joints = body.joints;
   int problems = 0, short_of = 0, near_start = 0;
   std::string worst;
   for (int k = 0; k < 40000 && problems < 8; ++k) {
-    const std::vector<double> start = draw();
-    const std::vector<double> goal = draw();
+    const std::vector<double> start = body.draw();
+    const std::vector<double> goal = body.draw();
     double start_clearance = 0;
     {
       ValidityChecker checker(*scene, worker.model(), worker.data(), joints);
@@ -521,35 +517,25 @@ TEST_P(PlanOnBothRobots, PathsFromAStartClearOfTheWorldKeepHalfItsClearanceOnThe
       if (checker.distance_to_world(goal.data(), wanted) < wanted) continue;
     }
     worker.reset_to_start();
-    set(start);
+    body.set(worker, start);
     MotionPlanner planner(*scene, worker.model(), worker.data(), joints, {}, cup_geoms);
     options.seed = static_cast<std::uint32_t>(problems + 1);
     const core::PlanResult r = planner.plan({goal}, options);
     if (r.status != core::PlanStatus::kExactSolution) continue;
     ++problems;
-    spacing.start = start;
-    spacing.goals = {goal};
     ValidityChecker checker(*scene, worker.model(), worker.data(), joints);
     const double floor = 0.5 * start_clearance;
-    for (size_t w = 0; w + 1 < r.path.size(); ++w) {
-      const std::vector<double>& a = r.path[w];
-      const std::vector<double>& b = r.path[w + 1];
-      std::vector<double> ts = core::motion_check_points(spacing, a.data(), b.data());
-      ts.push_back(1);
-      for (double t : ts) {
-        std::vector<double> q(a.size());
-        for (size_t i = 0; i < q.size(); ++i) q[i] = a[i] + t * (b[i] - a[i]);
-        const double from_start = max_abs_diff(q, start);
-        if (from_start >= radius || max_abs_diff(q, goal) < radius) continue;
-        ++near_start;
-        const double needed = floor + (wanted - floor) * from_start / radius;
-        const double have = checker.distance_to_world(q.data(), wanted);
-        if (have < needed - 1e-4) {
-          ++short_of;
-          worst = std::to_string(have * 1000) + " mm where " + std::to_string(needed * 1000) +
-                  " mm were asked, " + std::to_string(from_start) + " rad from a start " +
-                  std::to_string(start_clearance * 1000) + " mm clear";
-        }
+    for (const std::vector<double>& q : body.checked_states(r, start, goal)) {
+      const double from_start = max_abs_diff(q, start);
+      if (from_start >= radius || max_abs_diff(q, goal) < radius) continue;
+      ++near_start;
+      const double needed = floor + (wanted - floor) * from_start / radius;
+      const double have = checker.distance_to_world(q.data(), wanted);
+      if (have < needed - 1e-4) {
+        ++short_of;
+        worst = std::to_string(have * 1000) + " mm where " + std::to_string(needed * 1000) +
+                " mm were asked, " + std::to_string(from_start) + " rad from a start " +
+                std::to_string(start_clearance * 1000) + " mm clear";
       }
     }
     worker.reset_to_start();
