@@ -2,9 +2,9 @@
 //   - The visitor walks its environment path back and forth at set_visitor_walk's speed,
 //     facing where it goes (driven kinematically; 0, the default, leaves it standing). As a
 //     person does, it does not walk into the robot: where a step would bring it within
-//     kVisitorYieldM of the robot or what it holds (seen from above, every geom's bounding
-//     sphere against the visitor's own radius), and closer than it is, it turns round and
-//     walks back the way it came. Nothing stops a robot coming to it.
+//     kVisitorYieldM of the robot or what it holds (seen from above: the box round every geom
+//     against the visitor's own radius round its axis), and closer than it is, it turns
+//     round and walks back the way it came. Nothing stops a robot coming to it.
 //   - A debris flake is removed (moved out of the world) when the tip of a held tool passes
 //     over it: tip within kDebrisPickupRadius of its centre horizontally and at most
 //     kDebrisPickupHeight above it.
