@@ -86,7 +86,6 @@ void WorldScript::set_visitor_walk(const mjModel* m, double speed_mps) {
   // Its radius: the farthest any of its geoms reaches from its vertical axis, as it stands in
   // the model (a geom's reach: its centre's distance plus the larger of its half extents
   // along x and y).
-  visitor_body_ = body;
   std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
   mj_kinematics(m, d.get());
   const Eigen::Vector2d axis(d->xpos[3 * body], d->xpos[3 * body + 1]);
@@ -101,7 +100,6 @@ void WorldScript::set_visitor_walk(const mjModel* m, double speed_mps) {
   }
   visitor_walked_ = 0;
   visitor_time_ = 0;
-  visitor_turns_ = 0;
   visitor_arc_ = {0.0};
   for (size_t i = 1; i < v.path.size(); ++i) {
     visitor_arc_.push_back(visitor_arc_.back() + std::hypot(v.path[i][0] - v.path[i - 1][0],
@@ -163,7 +161,6 @@ void WorldScript::drive_visitor(const mjModel* m, mjData* d, double time, const 
     // way) and walks back.
     const double length = visitor_arc_.back();
     visitor_walked_ = 2 * length - std::fmod(visitor_walked_, 2 * length);
-    ++visitor_turns_;
     place = visitor_at(visitor_walked_ + step, &heading);
   }
   visitor_walked_ += step;

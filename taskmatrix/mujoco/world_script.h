@@ -36,8 +36,6 @@ class WorldScript {
   // Walks the visitor on to simulated `time` (the first call after set_visitor_walk walks from
   // time 0), in `d`, with the robot and what `held` holds where `d`'s geom poses have them.
   void drive_visitor(const mjModel* m, mjData* d, double time, const HeldObjects& held);
-  // How many times the visitor has turned round for the robot since set_visitor_walk.
-  int visitor_turns() const { return visitor_turns_; }
 
   // The flakes' places are where `m` has them now (after a task variation moved them).
   void note_debris_places(const mjModel* m);
@@ -62,8 +60,6 @@ class WorldScript {
   double visitor_radius_ = 0;  // m: the farthest its geoms reach from its vertical axis
   double visitor_walked_ = 0;  // m along the path (there and back again)
   double visitor_time_ = 0;    // s: the simulated time it has walked to
-  int visitor_turns_ = 0;
-  int visitor_body_ = -1;
   std::vector<int> robot_geoms_;
   std::vector<double> visitor_arc_;              // arc length along the path at each waypoint
   std::array<int, 3> visitor_qpos_{-1, -1, -1};  // x, y, yaw

@@ -14,8 +14,9 @@
 //                               Where the base cannot turn to the target or the arms cannot
 //                               come down to rest, it steps back from the nearest surface
 //                               (retreat), lowers the arms, and tries once more (lowering the
-//                               torso's bend too); a target that leaves the view while the arm
-//                               rises or waves is found again and waved at once more
+//                               torso's bend too; finding: twice, a second step back first); a
+//                               target that leaves the view while the arm rises or waves is found
+//                               again and waved at once more
 //   vacuum   tool, surface      Fig. 4: pickup the tool; position its tip over the nearest
 //                               debris while any is known; putdown the tool on the surface
 #include "taskmatrix/core/state_machine.h"
