@@ -205,6 +205,7 @@ void MujocoSkillset::require_no_query(const char* what) const {
 void MujocoSkillset::reset() {
   require_no_query("reset");
   world_.restore_debris(worker_.model());
+  world_.restart_visitor_walk();
   have_last_ = false;
   have_accel_ = false;
   pruning_.wake_all();

@@ -98,8 +98,7 @@ void WorldScript::set_visitor_walk(const mjModel* m, double speed_mps) {
     visitor_radius_ = std::max(
         visitor_radius_, (at - axis).norm() + horizontal_half_extent(m, d.get(), g).maxCoeff());
   }
-  visitor_walked_ = 0;
-  visitor_time_ = 0;
+  restart_visitor_walk();
   visitor_arc_ = {0.0};
   for (size_t i = 1; i < v.path.size(); ++i) {
     visitor_arc_.push_back(visitor_arc_.back() + std::hypot(v.path[i][0] - v.path[i - 1][0],

@@ -36,6 +36,8 @@ class WorldScript {
   // Walks the visitor on to simulated `time` (the first call after set_visitor_walk walks from
   // time 0), in `d`, with the robot and what `held` holds where `d`'s geom poses have them.
   void drive_visitor(const mjModel* m, mjData* d, double time, const HeldObjects& held);
+  // The visitor starts its walk again from the path's first point at time 0 (after a reset).
+  void restart_visitor_walk() { visitor_walked_ = visitor_time_ = 0; }
 
   // The flakes' places are where `m` has them now (after a task variation moved them).
   void note_debris_places(const mjModel* m);

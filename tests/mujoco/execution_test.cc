@@ -492,18 +492,29 @@ TEST_P(ExecutionOnBothRobots, TheVisitorTurnsRoundRatherThanWalkIntoARobotInItsW
     // Where it got to, and how far back it walked after that.
     double farthest = -INFINITY, back_after = INFINITY;
     int touching = 0;
-    for (int k = 0; k * skills->control_period() < 4.0; ++k) {
-      skills->advance();
-      const double y = -1.0 + skills->sim_data()->qpos[visitor_y];
-      if (y > farthest) farthest = y, back_after = y;
-      back_after = std::min(back_after, y);
-      for (const core::Collision& c : skills->collisions({"base"}))
-        touching += c.other == "visitor";
-    }
+    auto walk = [&] {
+      farthest = -INFINITY, back_after = INFINITY, touching = 0;
+      for (int k = 0; k * skills->control_period() < 4.0; ++k) {
+        skills->advance();
+        const double y = -1.0 + skills->sim_data()->qpos[visitor_y];
+        if (y > farthest) farthest = y, back_after = y;
+        back_after = std::min(back_after, y);
+        for (const core::Collision& c : skills->collisions({"base"}))
+          touching += c.other == "visitor";
+      }
+    };
+    walk();
     EXPECT_EQ(touching, 0) << to_string(mode);
     EXPECT_LT(farthest, robot_y - 0.3) << to_string(mode) << ": it walked into the robot";
     EXPECT_GT(farthest, robot_y - 1.0) << to_string(mode) << ": it turned round far away";
     EXPECT_LT(back_after, farthest - 0.3) << to_string(mode) << ": it did not walk back";
+    // After a reset it walks its path from the start again, exactly as the first time.
+    const double first_farthest = farthest, first_back_after = back_after;
+    skills->reset();
+    walk();
+    EXPECT_EQ(farthest, first_farthest) << to_string(mode) << " after a reset";
+    EXPECT_EQ(back_after, first_back_after) << to_string(mode) << " after a reset";
+    EXPECT_EQ(touching, 0) << to_string(mode) << " after a reset";
   }
 }
 
