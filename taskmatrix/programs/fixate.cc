@@ -38,6 +38,8 @@ constexpr double kBlockedS = 2.0;
 constexpr double kAroundMargin = 0.15;
 // With until_centered: s after which an object never centred fails fixate.
 constexpr double kSeekLimitS = 20.0;
+// Base turns smaller than this (rad) are not commanded (nor checked for collision).
+constexpr double kMinTurnRad = 0.002;
 // How far (rad, any joint) the head's goal moves before it is checked for collision again.
 constexpr double kGoalRecheckRad = 0.02;
 // How far (m) the head keeps from everything, the robot's own body included.
@@ -125,29 +127,34 @@ class Fixate final : public core::TaskProgram {
     const bool best_possible = head_there && (std::abs(residual) <= tolerance_ || !aims) &&
                                core::in_camera_view(skills, o->box);
     if (base_) {
-      if (std::abs(residual) > tolerance_ / 2) {
-        const core::ChainInfo& base = skills.chain("base");
-        const double step = base.speed.velocity * dt;
-        // The heading that takes up the residual (+x right: turn left for -x). A yaw joint
-        // whose range spans a full turn reaches a heading past one of its limits the other way
-        // round (a robot that starts facing -x at the limit of a [-pi, pi] yaw).
-        // A heading past the limit by no more than the neck (or the tolerance) takes up is
-        // turned to the limit instead; once going round, it keeps going while the heading
-        // is past the limit at all (a target just past it, moving or seen from a lagging
-        // base, would otherwise flip the direction back and forth).
-        double wanted = -residual;
-        const double heading = base_cmd_[2] + wanted;
-        const bool full_turn = base.upper[2] - base.lower[2] >= 2 * M_PI - 1e-3;
-        const double past =
-            full_turn ? std::max(heading - base.upper[2], base.lower[2] - heading) : 0.0;
-        const double margin = has_head_ ? kAroundMargin : tolerance_ / 2;
-        if (past > (going_round_ ? 0.0 : margin)) {
-          going_round_ = true;
-          wanted += heading > base.upper[2] ? -2 * M_PI : 2 * M_PI;
-        } else if (past <= 0) {
-          going_round_ = false;
-        }
-        const double turn = std::clamp(wanted, -step, step);
+      const core::ChainInfo& base = skills.chain("base");
+      const double step = base.speed.velocity * dt;
+      // The heading that centres the object, from where the base stands (+x right: turn left
+      // for -x). Not from its command: under physics the base lags its command, and a command
+      // stepped on by what is still to turn runs ahead of the base and past the object, then
+      // back past it (atlas, without a neck yaw, swung 0.1 rad either side of a walking
+      // visitor and never held it centred). Turns smaller than kMinTurnRad are not commanded.
+      const double measured = skills.clamped_configuration({"base"})[2];
+      double heading = measured - residual;
+      // A yaw joint whose range spans a full turn reaches a heading past one of its limits
+      // the other way round (a robot that starts facing -x at the limit of a [-pi, pi] yaw).
+      // A heading past the limit by no more than the neck (or the tolerance) takes up is
+      // turned to the limit instead; once going round, it keeps going while the heading
+      // is past the limit at all (a target just past it, moving or seen from a lagging
+      // base, would otherwise flip the direction back and forth).
+      const bool full_turn = base.upper[2] - base.lower[2] >= 2 * M_PI - 1e-3;
+      const double past =
+          full_turn ? std::max(heading - base.upper[2], base.lower[2] - heading) : 0.0;
+      const double margin = has_head_ ? kAroundMargin : tolerance_ / 2;
+      if (past > (going_round_ ? 0.0 : margin)) {
+        going_round_ = true;
+        heading += heading > base.upper[2] ? -2 * M_PI : 2 * M_PI;
+      } else if (past <= 0) {
+        going_round_ = false;
+      }
+      const double turn = std::clamp(heading - base_cmd_[2], -step, step);
+      const bool wants_turn = std::abs(residual) > tolerance_ / 2;
+      if (std::abs(turn) > kMinTurnRad) {
         std::vector<double> turned = base_cmd_;
         turned[2] = std::clamp(base_cmd_[2] + turn, base.lower[2], base.upper[2]);
         // Nothing checks a commanded turn on the way: one that would sweep the robot (a hand
@@ -156,12 +163,11 @@ class Fixate final : public core::TaskProgram {
           base_cmd_ = turned;
           skills.command({"base"}, base_cmd_);
           blocked_since_ = -1;
-        } else if (blocked_since_ < 0) {
+        } else if (wants_turn && blocked_since_ < 0) {
           blocked_since_ = ctx.time();
         }
-      } else {
-        blocked_since_ = -1;
       }
+      if (!wants_turn) blocked_since_ = -1;
       // Waiting to be centred while the base cannot turn (the robot close beside furniture, a
       // neck that cannot take up the angle): it never will be. A machine can make room and try
       // again; running on would only meet the scenario's time limit without a reason.
