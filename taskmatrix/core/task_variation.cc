@@ -164,7 +164,7 @@ TaskVariation draw_variation(const VariationOptions& options, const WorldGeometr
            std::all_of(a.keep_out.begin(), a.keep_out.end(), [&](const Rect2& k) {
              return distance_to_rect(x, y, k) >= r + options.clearance_m;
            });
-      drawn = {p.object, p.surface, x, y, surface.height + obj.below, yaw};
+      drawn = {p.object, p.surface, x, y, surface.height + obj.below + kRestGapM, yaw};
     }
     if (!ok) {
       throw VariationError(key,

@@ -114,13 +114,16 @@ class Explore final : public core::TaskProgram {
       }
       return;
     }
+    // What the first look shows may be enough: no viewpoint is sought (one that could not be
+    // reached would fail a region already covered).
+    if (coverage() >= target_ - 1e-12) return;
     make_viewpoints(ctx.skills());
     next_viewpoint(ctx);
   }
 
   core::ProgramState step(core::ProgramContext& ctx) override {
-    if (failure_) return fail(*failure_);
     if (coverage() >= target_ - 1e-12) return core::ProgramState::kCompleted;
+    if (failure_) return fail(*failure_);
     if (ctx.time() - start_time_ >= time_limit_) {
       return fail(shortfall("the time limit of " + number(time_limit_) + " s passed"));
     }
@@ -364,6 +367,9 @@ class Explore final : public core::TaskProgram {
   void next_viewpoint(core::ProgramContext& ctx) {
     core::Skillset& skills = ctx.skills();
     const std::vector<double> now = skills.configuration(chains_);
+    // A hand left against what it has just set down (a putdown before): the torso and base
+    // carry it away, and the plan may brush that object near its start, as retreat's does.
+    for (const char* side : {"left", "right"}) motion_.allow_touching(touched_by_arm(ctx, side));
     std::string unreachable;
     for (int attempt = 0; attempt < 6;) {
       int best = -1;

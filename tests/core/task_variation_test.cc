@@ -118,7 +118,7 @@ TEST(TaskVariation, PlacedObjectsNeverOverlapEachOtherOrWhatStaysAndStayInTheirA
       ASSERT_GE(std::hypot(o.x - 0.6, o.y + 0.3), r + 0.028 + v.clearance_m) << "the flake";
       ASSERT_GE(o.x - r, 0.36 - 1e-12);
       ASSERT_LE(o.y + r, 0.54 + 1e-12);
-      ASSERT_NEAR(o.z, h + 0.05, 1e-12) << "rests on the surface at its drawn height";
+      ASSERT_NEAR(o.z, h + 0.05 + kRestGapM, 1e-12) << "just above the surface at its height";
     }
     // The box's area is the near half of the table's.
     ASSERT_LE(box.x + 0.036, 0.36 + 0.5 * 0.58 + 1e-12);

@@ -359,6 +359,80 @@ void expect_success_running(const std::string& trials, const std::string& progra
       << "not the case described: " << trials.substr(0, 2000);
 }
 
+// Another task the programs were not written for: carry the juice box and the cup from the
+// side surface to the work surface, then look the work surface over. The trial `trial_id` of
+// it for `robot` in `environment`; its trials.jsonl.
+std::string restock_trial(const std::string& robot, const std::string& environment,
+                          const std::string& trial_id) {
+  test::ScratchRoot root;
+  root.write("restock.yaml", R"(machine:
+  name: restock
+  initial: take_box
+  states:
+    take_box: {program: pickup, params: {object: box}}
+    place_box: {program: putdown, params: {object: box, surface: work_surface}}
+    take_cup: {program: pickup, params: {object: cup}}
+    place_cup: {program: putdown, params: {object: cup, surface: work_surface}}
+    look: {program: explore, params: {surface: work_surface, coverage: 0.8}}
+    done: {final: success}
+  transitions:
+    - {from: take_box, on: completed, to: place_box}
+    - {from: place_box, on: completed, to: take_cup}
+    - {from: take_cup, on: completed, to: place_cup}
+    - {from: place_cup, on: completed, to: look}
+    - {from: look, on: completed, to: done}
+params: {}
+robots: [)" + robot + R"(]
+environments: [)" + environment + R"(]
+perception: ground_truth
+obstacles: {count: 8}
+objects:
+  box: {on: side_surface, yaw: [-3.14159, 3.14159]}
+  cup: {on: side_surface, yaw: [-3.14159, 3.14159]}
+robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
+layout_seed: 900
+seed: 1
+trials: 4
+visitor: {walk_speed: 0.4}
+time_limit_s: 200
+success: all_of(above(cup, work_surface), above(box, work_surface))
+)");
+  return run_in_root(root, "restock.yaml", trial_id);
+}
+
+// After setting the cup down beside the box, tallbot's thumb rested 0.3 mm against the box,
+// and every viewpoint's plan (the base and torso carrying the arm) started in collision:
+// `coverage_short: observed 15 of 336 cells ...; the viewpoints that would show more cannot
+// be reached (invalid_start: ... l_thumb_dist touches box_body ...)`. explore's plans may now
+// leave what a hand touches at their start, as retreat's may.
+TEST(ExploreAfterAPutdown, AHandLeftAgainstWhatItSetDownDoesNotPinTheRobot) {
+  const std::string trials =
+      restock_trial("tallbot", "kitchen", "restock.tallbot.kitchen.RRTConnect.l900.s1");
+  expect_success_running(trials, "explore");
+  EXPECT_EQ(trials.find("invalid_start"), std::string::npos) << trials.substr(0, 2000);
+}
+
+// atlas's first look over the desk showed 90% of it, more than the 80% asked for, and explore
+// still sought a viewpoint; none could be reached, and it failed with `coverage_short:
+// observed 351 of 390 cells (coverage 0.9, target 0.8)` (restock, office, layout 903). A
+// region seen whole at the first look failed the same way: no viewpoint showed anything new.
+// A first look that is enough now completes explore.
+TEST(ExploreAFewCellsInView, AFirstLookThatIsEnoughCompletes) {
+  test::ScratchRoot root;
+  root.write("look.yaml", R"(program: explore
+params: {bounds: ["0.45", "0.55", "-0.05", "0.05", "0.65"], cell_m: 0.05, coverage: 0.9}
+robots: [tallbot]
+environments: [kitchen]
+obstacles: {count: 0}
+layout_seed: 1
+seed: 1
+trials: 1
+time_limit_s: 30
+)");
+  const std::string trials = run_in_root(root, "look.yaml");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
 // A task the programs were not written for, as a user writes it: carry the cup and the juice
 // box to the side surface, then greet. After the putdown atlas stands against the counter,
 // its torso bent: finding the visitor, every base turn was refused (a hand would sweep into the
@@ -416,11 +490,12 @@ TEST(GreetAfterAPutdown, TheArmsComeDownBeforeTheBaseTurnsToTheVisitorAgain) {
 // The walking visitor left minibot's view while it waved (office, layout 204): the wave's
 // invariant in_view(visitor) stopped it. greet finds the visitor again, base and head, and
 // raises the arm and waves once more. (Since putdown's placements keep clear of other objects
-// the box goes elsewhere in that world and the visitor stays in view; kitchen 206 is such a
-// case now: there, on the code before, the visitor left the view a second time.)
+// the box goes elsewhere in that world and the visitor stays in view. Since placed objects
+// start 0.1 mm above their surface, office 200 no longer has the visitor leave the view;
+// kitchen 218, a world beyond the task's eight, does.)
 TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
-  const std::string trials =
-      run_task_trial("tidy.yaml", "minibot", "office", "tidy.minibot.office.RRTConnect.l200.s1");
+  const std::string trials = run_task_trial("tidy.yaml", "minibot", "kitchen",
+                                            "tidy.minibot.kitchen.RRTConnect.l218.s11");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   const std::regex halted("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"halted\"");
   const std::regex completed("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"completed\"");

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "taskmatrix/core/task_variation.h"
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
 #include "taskmatrix/mujoco/scene.h"
@@ -100,7 +101,9 @@ TEST_P(VariationInEveryScene, PlacedObjectsAndTheRobotStartWhereDrawnAndTheShare
       const int b = body_of(m, *scene, o.object);
       EXPECT_NEAR(d->xpos[3 * b], o.x, 1e-9);
       EXPECT_NEAR(d->xpos[3 * b + 1], o.y, 1e-9);
-      EXPECT_NEAR(lowest_z(m, d, b), layout.variation.surfaces[0].height_m, 1e-6);
+      // Just above the surface at its drawn height (core::kRestGapM), to settle onto it.
+      EXPECT_NEAR(lowest_z(m, d, b), layout.variation.surfaces[0].height_m + core::kRestGapM,
+                  1e-6);
     }
     const ChainIndex& base = scene->chain("base");
     EXPECT_EQ(d->qpos[base.qpos_adr[2]], layout.variation.robot_start->yaw);
