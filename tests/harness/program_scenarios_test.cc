@@ -494,8 +494,8 @@ TEST(GreetAfterAPutdown, TheArmsComeDownBeforeTheBaseTurnsToTheVisitorAgain) {
 // start 0.1 mm above their surface, office 200 no longer has the visitor leave the view;
 // kitchen 218, a world beyond the task's eight, does.)
 TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
-  const std::string trials = run_task_trial("tidy.yaml", "minibot", "kitchen",
-                                            "tidy.minibot.kitchen.RRTConnect.l218.s11");
+  const std::string trials =
+      run_task_trial("tidy.yaml", "minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l218.s11");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   const std::regex halted("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"halted\"");
   const std::regex completed("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"completed\"");

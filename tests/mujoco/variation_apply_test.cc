@@ -102,8 +102,7 @@ TEST_P(VariationInEveryScene, PlacedObjectsAndTheRobotStartWhereDrawnAndTheShare
       EXPECT_NEAR(d->xpos[3 * b], o.x, 1e-9);
       EXPECT_NEAR(d->xpos[3 * b + 1], o.y, 1e-9);
       // Just above the surface at its drawn height (core::kRestGapM), to settle onto it.
-      EXPECT_NEAR(lowest_z(m, d, b), layout.variation.surfaces[0].height_m + core::kRestGapM,
-                  1e-6);
+      EXPECT_NEAR(lowest_z(m, d, b), layout.variation.surfaces[0].height_m + core::kRestGapM, 1e-6);
     }
     const ChainIndex& base = scene->chain("base");
     EXPECT_EQ(d->qpos[base.qpos_adr[2]], layout.variation.robot_start->yaw);
