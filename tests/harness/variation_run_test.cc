@@ -33,6 +33,16 @@ class Variations : public ::testing::Test {
     std::ofstream(dir_ / name) << text;
     return dir_ / name;
   }
+  // Runs `scenario` into run/ with two workers.
+  RunJobResult run(const std::filesystem::path& scenario) {
+    RunJobOptions options;
+    options.scenario_file = scenario;
+    options.out = dir_ / "run";
+    options.jobs = 2;
+    options.progress = RunJobOptions::Progress::kOff;
+    std::ostringstream out, err;
+    return run_job(test::catalog(), registry_, options, out, err);
+  }
   // "file:line: key: message" of the InputError that validating `text` throws ("" if none).
   std::string error_of(const std::string& text) {
     const auto file = write("bad.yaml", text);
@@ -123,14 +133,8 @@ TEST_F(Variations, ObjectsTurnedOnASurfaceStartClearOfItAndSettleOnIt) {
     const core::TrialLayout layout = draw_trial_layout(plan.scenarios[0], *scene, seed, "side");
     EXPECT_TRUE(scene->start_contacts(layout).empty());
   }
-  RunJobOptions options;
-  options.scenario_file = scenario;
-  options.out = dir_ / "run";
-  options.jobs = 2;
-  options.progress = RunJobOptions::Progress::kOff;
-  std::ostringstream out, err;
-  const RunJobResult r = run_job(test::catalog(), registry_, options, out, err);
-  ASSERT_EQ(r.finished, 4) << err.str();
+  const RunJobResult r = run(scenario);
+  ASSERT_EQ(r.finished, 4);
   for (const nlohmann::json& t : read_trials_file(dir_ / "run" / "trials.jsonl").trials) {
     SCOPED_TRACE(t["trial_id"].get<std::string>());
     EXPECT_TRUE(t["success"].get<bool>()) << t["failure_reason"];
@@ -149,13 +153,7 @@ TEST_F(Variations, ObjectsTurnedOnASurfaceStartClearOfItAndSettleOnIt) {
 TEST_F(Variations, EveryDrawnValueIsRecordedTheSameSeedGivesTheSameAndReplaysShowIt) {
   const auto scenario =
       write("varied.yaml", std::string(kFixate) + kVaried + "layout_seed: 40\ntrials: 2\n");
-  RunJobOptions options;
-  options.scenario_file = scenario;
-  options.out = dir_ / "run";
-  options.jobs = 2;
-  options.progress = RunJobOptions::Progress::kOff;
-  std::ostringstream out, err;
-  const RunJobResult r = run_job(test::catalog(), registry_, options, out, err);
+  const RunJobResult r = run(scenario);
   ASSERT_EQ(r.finished, 2);
   const RunPlan plan = load_run_plan(scenario, test::catalog(), registry_);
   auto scene = test::scene("minibot", "kitchen");
