@@ -268,6 +268,8 @@ std::vector<int> MujocoSkillset::object_geoms(const std::vector<std::string>& ob
       }
     } else if (const int b = mj_name2id(m, mjOBJ_BODY, name.c_str()); b > 0) {
       bodies.push_back(b);
+    } else if (const int o = obstacle_body(name); o > 0) {
+      bodies.push_back(o);  // as name_of_body and the perceptual model name it
     } else {
       throw std::invalid_argument("no object or body '" + name + "' in environment " +
                                   scene_->environment().name);
@@ -923,6 +925,19 @@ std::vector<std::string> MujocoSkillset::do_attached_objects() const { return he
 std::string MujocoSkillset::do_holder_of(const std::string& object) const {
   const Attachment* a = held_.find(object);
   return a ? a->side : "";
+}
+
+int MujocoSkillset::obstacle_body(const std::string& name) const {
+  static const std::string kPrefix = "obstacle_";
+  if (name.rfind(kPrefix, 0) != 0 || name.size() == kPrefix.size()) return -1;
+  const std::string digits = name.substr(kPrefix.size());
+  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
+      digits.size() > 6) {
+    return -1;
+  }
+  const std::vector<ObstacleSlot>& slots = scene_->obstacle_slots();
+  const size_t slot = std::stoul(digits);
+  return slot < slots.size() ? slots[slot].body : -1;
 }
 
 std::string MujocoSkillset::name_of_body(int body) const {

@@ -203,6 +203,8 @@ class MujocoSkillset final : public core::Skillset {
   void refresh_supports();
   // The symbolic object name of a body's object, or the body's name.
   std::string name_of_body(int body) const;
+  // The body of the random obstacle named "obstacle_N" (name_of_body's name for it), or -1.
+  int obstacle_body(const std::string& name) const;
   // Robot bodies the chains' joints move, as a per-body mask.
   std::vector<char> moved_bodies(const std::vector<int>& joints) const;
 

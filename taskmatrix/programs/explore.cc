@@ -189,6 +189,7 @@ class Explore final : public core::TaskProgram {
   }
 
   double coverage() const {
+    if (observed_.empty()) return 0;  // no region (start failed)
     return static_cast<double>(std::count(observed_.begin(), observed_.end(), 1)) /
            static_cast<double>(observed_.size());
   }
@@ -368,7 +369,9 @@ class Explore final : public core::TaskProgram {
     core::Skillset& skills = ctx.skills();
     const std::vector<double> now = skills.configuration(chains_);
     // A hand left against what it has just set down (a putdown before): the torso and base
-    // carry it away, and the plan may brush that object near its start, as retreat's does.
+    // carry it away, and the plan may brush that object near its start, as retreat's does
+    // (what the arms touch now, not what they touched before an earlier viewpoint).
+    motion_.execution.may_touch.clear();
     for (const char* side : {"left", "right"}) motion_.allow_touching(touched_by_arm(ctx, side));
     std::string unreachable;
     for (int attempt = 0; attempt < 6;) {

@@ -38,7 +38,8 @@ constexpr double kBlockedS = 2.0;
 constexpr double kAroundMargin = 0.15;
 // With until_centered: s after which an object never centred fails fixate.
 constexpr double kSeekLimitS = 20.0;
-// Base turns smaller than this (rad) are not commanded (nor checked for collision).
+// Base turns smaller than this (rad, or a quarter of the tolerance) are not commanded (nor
+// checked for collision).
 constexpr double kMinTurnRad = 0.002;
 // How far (rad, any joint) the head's goal moves before it is checked for collision again.
 constexpr double kGoalRecheckRad = 0.02;
@@ -154,7 +155,7 @@ class Fixate final : public core::TaskProgram {
       }
       const double turn = std::clamp(heading - base_cmd_[2], -step, step);
       const bool wants_turn = std::abs(residual) > tolerance_ / 2;
-      if (std::abs(turn) > kMinTurnRad) {
+      if (std::abs(turn) > std::min(kMinTurnRad, tolerance_ / 4)) {
         std::vector<double> turned = base_cmd_;
         turned[2] = std::clamp(base_cmd_[2] + turn, base.lower[2], base.upper[2]);
         // Nothing checks a commanded turn on the way: one that would sweep the robot (a hand

@@ -72,6 +72,32 @@ TEST(Backends, ATrialWorldHasItsLayoutExecutionAndRecording) {
   EXPECT_THROW(scene->make_trial_world(layout, options), std::invalid_argument);
 }
 
+// What a chain touches is reported by name (Skillset::collisions, the perceptual model): a
+// random obstacle as "obstacle_N". A program that lets a plan leave what a hand touches passes
+// those names back as may_touch; an obstacle's name was not resolved there, and every plan
+// failed `invalid_input: may_touch: no object or body 'obstacle_0'`.
+TEST(Backends, APlanMayTouchAnObstacleByTheNameItIsReportedBy) {
+  const auto scene = backend().load(test::catalog().robot_dir("minibot"),
+                                    test::catalog().environment_dir("kitchen"));
+  core::ObstacleOptions obstacles;
+  obstacles.count = 3;
+  const core::TrialLayout layout = scene->make_trial_layout(obstacles, {}, 1);
+  core::TrialWorldOptions options;
+  options.execution = "kinematic";
+  const auto world = scene->make_trial_world(layout, options);
+  core::Skillset& skills = world->skills();
+  core::PlanOptions plan;
+  plan.seed = 1;
+  plan.may_touch = {"obstacle_0", "obstacle_2"};
+  const std::vector<double> here = skills.configuration({"left_arm"});
+  core::PlanResult r = skills.plan_to_configuration({"left_arm"}, here, plan);
+  EXPECT_EQ(r.status, core::PlanStatus::kExactSolution) << r.message;
+  plan.may_touch = {"obstacle_99"};  // no such slot (the kitchen has 24)
+  r = skills.plan_to_configuration({"left_arm"}, here, plan);
+  EXPECT_EQ(r.status, core::PlanStatus::kInvalidInput);
+  EXPECT_NE(r.message.find("obstacle_99"), std::string::npos) << r.message;
+}
+
 TEST(Backends, AViewShowsPosturesAndRecordedStatesAndDrawsThem) {
   const auto scene = backend().load(test::catalog().robot_dir("tallbot"),
                                     test::catalog().environment_dir("kitchen"));
