@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "taskmatrix/mujoco/kinematics.h"
+#include "taskmatrix/mujoco/mjcf_compose.h"
 
 namespace taskmatrix::mujoco {
 
@@ -164,7 +165,7 @@ std::vector<SceneThing> scene_things(const MujocoSkillset& skills) {
   const std::vector<ObstacleSlot>& slots = scene.obstacle_slots();
   for (size_t s = 0; s < slots.size(); ++s) {
     if (!skills.obstacle_active(static_cast<int>(s))) continue;
-    SceneThing t{"obstacle_" + std::to_string(s), "obstacle", slots[s].body, true};
+    SceneThing t{obstacle_name(static_cast<int>(s)), "obstacle", slots[s].body, true};
     t.obstacle_slot = static_cast<int>(s);
     out.push_back(std::move(t));
   }

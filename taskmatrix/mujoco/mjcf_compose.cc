@@ -343,6 +343,22 @@ void degrees_to_radians(XMLElement* root, const MjcfSource& src) {
 
 std::string obstacle_body_name(int slot) { return "tm_obstacle_" + std::to_string(slot); }
 
+namespace {
+const std::string kObstaclePrefix = "obstacle_";
+}  // namespace
+
+std::string obstacle_name(int slot) { return kObstaclePrefix + std::to_string(slot); }
+
+int obstacle_slot_named(const std::string& name) {
+  if (name.rfind(kObstaclePrefix, 0) != 0) return -1;
+  const std::string digits = name.substr(kObstaclePrefix.size());
+  if (digits.empty() || digits.size() > 6 ||
+      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return -1;
+  }
+  return std::stoi(digits);
+}
+
 std::string obstacle_geom_name(int slot, core::ObstacleShape shape) {
   return obstacle_body_name(slot) + "_" + core::to_string(shape);
 }

@@ -43,6 +43,10 @@ std::string compose_scene_mjcf(const MjcfSource& robot, const MjcfSource& enviro
                                const CompositionOptions& options);
 
 std::string obstacle_body_name(int slot);
+// "obstacle_N": how the skillset and the perceptual model name the obstacle in slot N; and
+// the slot such a name names (-1 for any other name).
+std::string obstacle_name(int slot);
+int obstacle_slot_named(const std::string& name);
 std::string obstacle_geom_name(int slot, core::ObstacleShape shape);
 
 }  // namespace taskmatrix::mujoco

@@ -9,6 +9,7 @@
 #include "taskmatrix/mujoco/body_kinematics.h"
 #include "taskmatrix/mujoco/head_sensor.h"
 #include "taskmatrix/mujoco/kinematics.h"
+#include "taskmatrix/mujoco/mjcf_compose.h"
 #include "taskmatrix/mujoco/motion_planner.h"
 
 namespace taskmatrix::mujoco {
@@ -928,16 +929,11 @@ std::string MujocoSkillset::do_holder_of(const std::string& object) const {
 }
 
 int MujocoSkillset::obstacle_body(const std::string& name) const {
-  static const std::string kPrefix = "obstacle_";
-  if (name.rfind(kPrefix, 0) != 0 || name.size() == kPrefix.size()) return -1;
-  const std::string digits = name.substr(kPrefix.size());
-  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
-      digits.size() > 6) {
-    return -1;
-  }
+  const int slot = obstacle_slot_named(name);
   const std::vector<ObstacleSlot>& slots = scene_->obstacle_slots();
-  const size_t slot = std::stoul(digits);
-  return slot < slots.size() ? slots[slot].body : -1;
+  return slot >= 0 && static_cast<size_t>(slot) < slots.size()
+             ? slots[static_cast<size_t>(slot)].body
+             : -1;
 }
 
 std::string MujocoSkillset::name_of_body(int body) const {
@@ -952,7 +948,7 @@ std::string MujocoSkillset::name_of_body(int body) const {
   }
   const std::vector<ObstacleSlot>& slots = scene_->obstacle_slots();
   for (size_t s = 0; s < slots.size(); ++s) {
-    if (slots[s].body == body) return "obstacle_" + std::to_string(s);
+    if (slots[s].body == body) return obstacle_name(static_cast<int>(s));
   }
   return body_name(m, body);
 }
