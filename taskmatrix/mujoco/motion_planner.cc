@@ -240,8 +240,9 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   };
   core::PlanningProblem problem;
   const double clearance = o.clearance_m;
-  // The start's own clearance, as the clearance test below measures it (held objects against
-  // the robot too): the largest margin, to a twentieth of o.clearance_m, with nothing within it.
+  // The start's own clearance from the world, as the clearance test below measures it (a held
+  // object keeps none from the robot holding it, as the robot's links keep none from each
+  // other): the largest margin, to a twentieth of o.clearance_m, with nothing within it.
   double start_clear = 0;
   if (clearance > 0 && !start_touches_allowed) {
     double clear = 0, blocked = clearance;

@@ -226,7 +226,7 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
         const bool other_moves =
             moving[b2] || (object_of[b2] >= 0 && moving[attachments_[object_of[b2]].holder_body]);
         if (object_moves || other_moves) {
-          attached_pairs_.push_back({*p, tolerance});
+          attached_pairs_.push_back({*p, tolerance, !scene.is_robot_body(b2) && object_of[b2] < 0});
         } else {
           note_static_contact(*p, tolerance);
         }
@@ -565,8 +565,9 @@ bool ValidityChecker::within_margin(const double* values, double margin_m, bool 
   });
   if (hit) return true;
   for (const AttachedPair& p : attached_pairs_) {
-    if (p.tolerance > 0 ? pair_in_contact(p.pair, p.tolerance)
-                        : collide(p.pair, p.pair.margin + margin_m) > 0) {
+    if (p.tolerance > 0
+            ? pair_in_contact(p.pair, p.tolerance)
+            : collide(p.pair, p.with_world ? p.pair.margin + margin_m : p.pair.margin) > 0) {
       return true;
     }
   }

@@ -94,8 +94,10 @@ class ValidityChecker {
   // same state).
   bool in_collision(const double* values, bool count = true);
   // Like in_collision, but a robot-world pair also counts when MuJoCo finds it within
-  // `margin_m` (beyond its own margin). Robot-robot pairs and pairs with a support tolerance
-  // (a held object on what it rested on) are checked as in in_collision. `count` as there.
+  // `margin_m` (beyond its own margin). Robot-robot pairs (a held object counts as the
+  // robot's: against the hand's wrist or another held object it keeps no margin, as the arm's
+  // own links keep none from each other) and pairs with a support tolerance (a held object on
+  // what it rested on) are checked as in in_collision. `count` as there.
   bool within_margin(const double* values, double margin_m, bool count = true);
 
   // Smallest signed distance (m) between the geoms the moving joints move (attached objects
@@ -141,8 +143,9 @@ class ValidityChecker {
  private:
   struct AttachedPair {
     GeomPair pair;
-    double tolerance;  // allowed penetration
-    int group = -1;    // index into clearance_groups_
+    double tolerance;        // allowed penetration
+    bool with_world = true;  // the other geom is not the robot's nor held: planning margin
+    int group = -1;          // index into clearance_groups_
   };
   // joint_reach_, clearance_groups_ and the pairs' groups, once.
   void compute_clearance_groups();

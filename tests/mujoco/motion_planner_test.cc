@@ -545,6 +545,82 @@ TEST_P(PlanOnBothRobots, PathsFromAStartClearOfTheWorldKeepHalfItsClearanceOnThe
   EXPECT_EQ(short_of, 0) << "of " << near_start << " states near the start; last: " << worst;
 }
 
+// A held object a few millimetres from a link of the arm holding it that the plan does not
+// move relative to the hand (tallbot's wrist sphere beside a cup grasped from above): the two
+// stay as they are along any path, as the arm's own links do, so the object keeps no planning
+// margin from the robot. Before: every state away from the start was within the centimetre
+// and the plan met its iteration budget.
+TEST_P(PlanOnBothRobots, AHeldObjectBesideTheArmHoldingItKeepsNoMarginFromIt) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  worker.reset_to_start();
+  const mjModel* m = worker.model();
+  mjData* d = worker.data();
+  const core::HandSpec* hand = scene->robot().find_hand("left");
+  const BodyFrame palm = resolve_frame(*scene, d, hand->palm);
+  // The nearest link above the palm's body with a collidable geom: the forearm or the wrist.
+  int link_geom = -1;
+  for (int b = m->body_parentid[palm.body]; b > 0 && link_geom < 0; b = m->body_parentid[b]) {
+    for (int k = 0; k < m->body_geomnum[b] && link_geom < 0; ++k) {
+      const int g = m->body_geomadr[b] + k;
+      if (m->geom_contype[g] || m->geom_conaffinity[g]) link_geom = g;
+    }
+  }
+  ASSERT_GE(link_geom, 0);
+  const int cup = mj_name2id(m, mjOBJ_BODY, "cup");
+  const int cup_shell = mj_name2id(m, mjOBJ_GEOM, "cup_shell");
+  ASSERT_GT(cup, 0);
+  ASSERT_GT(cup_shell, 0);
+  const std::optional<GeomPair> pair = scene->collidable_pair(cup_shell, link_geom);
+  ASSERT_TRUE(pair.has_value());
+  // The cup out to the robot's left of that link, 4 mm from it.
+  const Eigen::Vector3d link_at(d->geom_xpos + 3 * link_geom);
+  const int cup_adr = m->jnt_qposadr[m->body_jntadr[cup]];
+  mjContact contacts[mjMAXCONPAIR];
+  auto cup_within = [&](double offset, double margin) {
+    const Eigen::Vector3d at = link_at + Eigen::Vector3d(0, offset, 0);
+    mju_copy3(d->qpos + cup_adr, at.data());
+    mj_fwdPosition(m, d);  // contacts too: the attachment records what the cup rests on
+    return collide_geoms(m, d, *pair, margin, contacts) > 0;
+  };
+  double offset = 0;
+  while (offset < 0.5 && cup_within(offset, 0.004)) offset += 0.0005;
+  ASSERT_LT(offset, 0.5);
+  ASSERT_TRUE(cup_within(offset, 0.009)) << "the cup is a centimetre or more from the link";
+  const std::vector<Attachment> held = {attachment_at(*scene, m, d, cup, palm.body, "cup", "left")};
+  ASSERT_EQ(describe_robot_contacts(*scene, m, d, held), "no contact");
+  // The base backs away 30 cm, arm and hand still: the cup and the link move together.
+  const ChainIndex& base = scene->chain("base");
+  std::vector<double> goal;
+  for (size_t i = 0; i < base.joints.size(); ++i) goal.push_back(d->qpos[base.qpos_adr[i]]);
+  goal[0] -= 0.3;
+  MotionPlanner planner(*scene, m, d, base.joints, held);
+  PlanOptions options;
+  options.max_iterations = 2000;
+  const core::PlanResult r = planner.plan({goal}, options);
+  EXPECT_EQ(r.status, core::PlanStatus::kExactSolution) << r.message;
+  // Against the world a held object keeps its centimetre: the same cup held 4 mm above the
+  // table is within the planning margin, though it touches nothing.
+  const int table_top = mj_name2id(m, mjOBJ_GEOM, "table_top");
+  ASSERT_GE(table_top, 0);
+  const std::optional<GeomPair> on_table = scene->collidable_pair(cup_shell, table_top);
+  ASSERT_TRUE(on_table.has_value());
+  const Eigen::Vector3d above_table(0.6, 0.0, 0.65 + 0.05 + 0.004);
+  mju_copy3(d->qpos + cup_adr, above_table.data());
+  mj_fwdPosition(m, d);
+  ASSERT_FALSE(collide_geoms(m, d, *on_table, 0.003, contacts) > 0);
+  const std::vector<Attachment> over_table = {
+      attachment_at(*scene, m, d, cup, palm.body, "cup", "left")};
+  ValidityChecker checker(*scene, m, d, base.joints, over_table);
+  std::vector<double> q;
+  for (size_t i = 0; i < base.joints.size(); ++i) q.push_back(d->qpos[base.qpos_adr[i]]);
+  EXPECT_FALSE(checker.in_collision(q.data()));
+  EXPECT_TRUE(checker.within_margin(q.data(), 0.01));
+  // And the cup beside the link, checked the same way, is not.
+  ValidityChecker beside_link(*scene, m, d, base.joints, held);
+  EXPECT_FALSE(beside_link.within_margin(q.data(), 0.01));
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, PlanOnBothRobots, ::testing::Values("tallbot", "minibot"));
 
 class IkOnBothRobots : public ::testing::TestWithParam<std::string> {};
