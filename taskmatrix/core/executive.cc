@@ -136,9 +136,12 @@ int Executive::launch(std::unique_ptr<TaskProgram> program, const std::string& n
 
   std::vector<std::string> chains;
   const bool claimed = contained(id, [&] {
-    const ClaimContext claim{skills_, percepts_,
-                             [this](const std::string& c) { return chain_holder_.count(c) > 0; },
-                             next_seed()};
+    const ClaimContext claim{
+        skills_, percepts_, [this](const std::string& c) { return chain_holder_.count(c) > 0; },
+        next_seed(),
+        [this](const std::vector<std::string>& names, const std::vector<double>& values) {
+          return skills_.is_valid(names, values);
+        }};
     chains = self.program->claim(claim);
   });
   if (!claimed) return id;

@@ -109,6 +109,10 @@ struct ClaimContext {
   const PerceptualModel& percepts;
   std::function<bool(const std::string& chain)> busy;  // held by a running program
   std::uint32_t seed;                                  // for a random choice
+  // Whether the robot, these chains at these values and the rest as it stands, touches
+  // nothing (Skillset::is_valid): a choice between limbs may prefer the one that fits.
+  std::function<bool(const std::vector<std::string>& chains, const std::vector<double>& values)>
+      clear;
 };
 
 class TaskProgram {

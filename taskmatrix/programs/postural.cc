@@ -1,10 +1,10 @@
 // postural: collision-free motion of one or more chains to a named posture of the profile
 // (paper: "postural"). A posture of a single limb (e.g. wave_start of the right arm) can be
 // taken by either limb: with side "any" the program mirrors it to the other limb when the
-// named one is busy or the other is already there, and otherwise picks one at random (from
-// the run's seed sequence, so a run is reproducible). With `skip_busy`, chains of the posture
-// that other programs hold are left out (greet lowers the waving arm while the other arm may
-// be holding something).
+// named one is busy or the other is already there, or when only the other's touches nothing,
+// and otherwise picks one at random (from the run's seed sequence, so a run is reproducible). With
+// `skip_busy`, chains of the posture that other programs hold are left out (greet lowers the waving
+// arm while the other arm may be holding something).
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
 

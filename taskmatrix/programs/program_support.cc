@@ -132,6 +132,11 @@ LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
   };
   const bool named_there = there(named), other_there = there(other);
   if (named_there != other_there) return {other_there};
+  // Beside furniture one arm's posture may reach into it where the other's is clear.
+  if (ctx.clear) {
+    const bool named_clear = ctx.clear(named.chains, named.values);
+    if (named_clear != ctx.clear(other.chains, other.values)) return {!named_clear};
+  }
   std::mt19937 rng(ctx.seed);
   return {std::bernoulli_distribution(0.5)(rng)};
 }

@@ -49,7 +49,8 @@ ChainValues posture_values(const core::Skillset& skills, const std::string& post
 
 // For programs whose target is a single-limb posture or motion: the version to use, given
 // `side` ("any", "left", "right" or "as_named"). With "any": the other limb if the named one
-// is busy (or the reverse), the one already at its first values if one is, else one at random.
+// is busy (or the reverse), the one already at its first values if one is, the one whose
+// values touch nothing if only one does (ClaimContext::clear), else one at random.
 // `first` gives the values to compare with the current configuration.
 struct LimbChoice {
   bool mirror = false;  // use the mirrored values
