@@ -24,6 +24,8 @@ constexpr double kMirrorTolM = 0.005;
 constexpr double kMirrorTolRad = 3.0 * M_PI / 180.0;
 constexpr double kNearLimit = 1e-3;
 constexpr double kFingerCloses = 0.005;
+// How often (s of the motion) the canned check samples a canned motion.
+constexpr double kCannedSampleS = 0.02;
 
 std::string fixed(double v, int digits) {
   char buf[64];
@@ -189,6 +191,116 @@ RobotFinding check_chains(const Scene& scene) {
                 near};
   }
   return {Level::kOk, "chains", dofs + "; every posture keeps 1e-3 from the joint limits"};
+}
+
+// Every canned motion as the canned program plays it (the chains it names through its
+// keyframes, interpolated linearly, the rest of the robot at rest), sampled every
+// kCannedSampleS: the first time one of the robot's links touches another of its links or
+// the floor. A motion that does fails every trial that plays it (collision).
+std::vector<RobotFinding> check_canned(const Scene& scene) {
+  std::vector<RobotFinding> out;
+  Probe probe(scene);
+  const mjModel* m = scene.model();
+  std::vector<std::string> clean;
+  // The robot against itself or a plane (the floor); furniture depends on the room.
+  auto counts = [&](int g) { return scene.is_robot_geom(g) || m->geom_type[g] == mjGEOM_PLANE; };
+  for (const auto& [name, motion] : scene.robot().canned) {
+    std::string found;
+    const std::vector<core::CannedMotion::Keyframe>& keys = motion.keyframes;
+    for (size_t k = 0; k + 1 < keys.size() && found.empty(); ++k) {
+      const double span = keys[k + 1].time_s - keys[k].time_s;
+      const int steps = std::max(1, static_cast<int>(std::ceil(span / kCannedSampleS)));
+      for (int s = 0; s <= steps && found.empty(); ++s) {
+        const double f = static_cast<double>(s) / steps;
+        probe.reset(true);
+        size_t at = 0;
+        for (const std::string& chain : motion.chains) {
+          std::vector<double> v(scene.chain(chain).qpos_adr.size());
+          for (double& x : v) {
+            x = keys[k].values[at] + f * (keys[k + 1].values[at] - keys[k].values[at]);
+            ++at;
+          }
+          probe.set(chain, v);
+        }
+        probe.kinematics();
+        for (const auto& [g1, g2] : probe.contacts()) {
+          if (!counts(g1) || !counts(g2)) continue;
+          found = "canned." + name + ": at " + fixed(keys[k].time_s + f * span, 2) + " s " +
+                  body_name(m, m->geom_bodyid[g1]) + " touches " + body_name(m, m->geom_bodyid[g2]);
+          break;
+        }
+      }
+    }
+    if (!found.empty()) {
+      out.push_back({Level::kError, "canned", found + " (canned and greet would collide)"});
+    } else {
+      clean.push_back(name);
+    }
+  }
+  if (!clean.empty()) {
+    std::string list;
+    for (const std::string& n : clean) list += (list.empty() ? "" : ", ") + n;
+    out.push_back(
+        {Level::kOk, "canned",
+         list + ": the robot touches neither itself nor the floor through the keyframes"});
+  }
+  return out;
+}
+
+// Each joint of the torso, head and arms at each of its limits, the rest of the robot at rest:
+// where two links of that joint's own chain then touch (an elbow folding the forearm into the
+// upper arm), the range reaches past where the links meet (a real joint's mechanical stop
+// comes first). IK and plans keep the links apart without a margin, so a goal may end a hair
+// from that contact and physics then holds the links in it (a `collision`): a warning. A limb
+// swung against the trunk (an arm adducted into the hip) is a posture, not a fold, and is not
+// reported.
+RobotFinding check_joint_ranges(const Scene& scene) {
+  Probe probe(scene);
+  const mjModel* m = scene.model();
+  std::vector<std::string> found;
+  int count = 0;
+  for (const core::ChainSpec& spec : scene.robot().chains) {
+    if (spec.name == "base" || spec.name == "left_hand" || spec.name == "right_hand") continue;
+    const ChainIndex& c = scene.chain(spec.name);
+    const std::vector<char> in_chain = moved_by(scene, {spec.name});
+    for (size_t i = 0; i < c.joints.size(); ++i) {
+      for (const bool upper : {false, true}) {
+        probe.reset(true);
+        const double v = upper ? c.upper[i] : c.lower[i];
+        std::vector<double> q(c.joints.size());
+        for (size_t k = 0; k < q.size(); ++k) {
+          q[k] = scene.start_qpos()[static_cast<size_t>(c.qpos_adr[k])];
+        }
+        q[i] = v;
+        probe.set(spec.name, q);
+        probe.kinematics();
+        for (const auto& [g1, g2] : probe.contacts()) {
+          const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
+          if (!in_chain[b1] || !in_chain[b2] || scene.same_hand(b1, b2)) continue;
+          ++count;
+          if (found.size() < 3) {
+            found.push_back(spec.name + " joint '" + mj_id2name(m, mjOBJ_JOINT, c.joints[i]) +
+                            "' at its " + (upper ? "upper" : "lower") + " limit " + fixed(v, 2) +
+                            ": " + body_name(m, b1) + " touches " + body_name(m, b2));
+          }
+          break;
+        }
+      }
+    }
+  }
+  if (found.empty()) {
+    return {Level::kOk, "joint ranges",
+            "every torso, head and arm joint at either limit (the rest at rest) leaves its "
+            "chain's links apart"};
+  }
+  std::string list;
+  for (const std::string& f : found) list += (list.empty() ? "" : "; ") + f;
+  return {Level::kWarning, "joint ranges",
+          std::to_string(count) +
+              " joint limits fold a link of the chain into another (the range reaches past "
+              "where they meet; a plan may end a hair from that contact and physics then holds "
+              "it): " +
+              list};
 }
 
 std::vector<RobotFinding> check_postures(const Scene& scene) {
@@ -481,6 +593,8 @@ std::vector<RobotFinding> check_robot_kinematics(const Scene& scene) {
   std::vector<RobotFinding> out;
   out.push_back(check_chains(scene));
   for (RobotFinding& f : check_postures(scene)) out.push_back(std::move(f));
+  for (RobotFinding& f : check_canned(scene)) out.push_back(std::move(f));
+  out.push_back(check_joint_ranges(scene));
   out.push_back(check_camera(scene));
   for (RobotFinding& f : check_mirror(scene)) out.push_back(std::move(f));
   for (RobotFinding& f : check_hands(scene)) out.push_back(std::move(f));
