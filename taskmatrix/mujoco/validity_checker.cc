@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "taskmatrix/mujoco/body_kinematics.h"
 
@@ -192,10 +193,25 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
 
   mj_kinematics(m, d);
   for (const Attachment& a : attachments_) place_attached(a);
-  // Pairs the moving joints can change are tested per query; the rest once, here.
+  // The nearest body at or above each body that a moving joint turns or slides (0: none).
+  // Two of the robot's bodies with the same one are carried alike by the moving joints (an arm
+  // left as it is while the base turns; both still, too): no moving joint lies between them,
+  // and their pair never changes.
+  std::vector<int> carried_by(m->nbody, 0);
+  for (int j : joints_) carried_by[m->jnt_bodyid[j]] = m->jnt_bodyid[j];
+  for (int b = 1; b < m->nbody; ++b) {  // parents precede children
+    if (carried_by[b] != b) carried_by[b] = carried_by[m->body_parentid[b]];
+  }
+  // Pairs the moving joints can change are tested per query; the rest once, here. A pair of
+  // the robot's own links carried alike is left out: what it is at the start (touching or
+  // not) it stays, whatever the plan.
   for (const GeomPair& p : scene.robot_geom_pairs()) {
-    if (object_of[m->geom_bodyid[p.g1]] >= 0 || object_of[m->geom_bodyid[p.g2]] >= 0) continue;
-    if (moving[m->geom_bodyid[p.g1]] || moving[m->geom_bodyid[p.g2]]) {
+    const int b1 = m->geom_bodyid[p.g1], b2 = m->geom_bodyid[p.g2];
+    if (object_of[b1] >= 0 || object_of[b2] >= 0) continue;
+    if (carried_by[b1] == carried_by[b2] && scene.is_robot_body(b1) && scene.is_robot_body(b2)) {
+      continue;
+    }
+    if (moving[b1] || moving[b2]) {
       changing_pairs_.push_back(p);
       // Robot-world pairs keep the planning margin, except against the floor, which the
       // base's lowest geoms always stay a few millimetres above as the base moves.

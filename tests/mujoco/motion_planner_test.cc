@@ -621,6 +621,55 @@ TEST_P(PlanOnBothRobots, AHeldObjectBesideTheArmHoldingItKeepsNoMarginFromIt) {
   EXPECT_FALSE(beside_link.within_margin(q.data(), 0.01));
 }
 
+// An arm left folded into the robot's own body (as physics may leave one that settled past
+// a plan's goal) stays as it is while the base moves: the pair cannot change, so it does not
+// make every state of the base's plan invalid; planning that arm itself, it still counts.
+TEST_P(PlanOnBothRobots, ALinkPairThePlanCarriesAlikeDoesNotBlockIt) {
+  auto scene = test::scene(GetParam(), "kitchen");
+  WorkerScene worker(scene);
+  worker.reset_to_start();
+  const mjModel* m = worker.model();
+  mjData* d = worker.data();
+  const ChainIndex& arm = scene->chain("left_arm");
+  // Seeded draws of the left arm until one touches the robot itself and nothing else.
+  std::mt19937 rng(7);
+  bool folded = false;
+  for (int draw = 0; draw < 5000 && !folded; ++draw) {
+    for (size_t i = 0; i < arm.joints.size(); ++i) {
+      std::uniform_real_distribution<double> u(arm.lower[i], arm.upper[i]);
+      d->qpos[arm.qpos_adr[i]] = u(rng);
+    }
+    mj_fwdPosition(m, d);
+    int self = 0, other = 0;
+    for (int c = 0; c < d->ncon; ++c) {
+      const int b1 = m->geom_bodyid[d->contact[c].geom1], b2 = m->geom_bodyid[d->contact[c].geom2];
+      const bool r1 = scene->is_robot_body(b1), r2 = scene->is_robot_body(b2);
+      if (r1 && r2 && !scene->same_hand(b1, b2) && d->contact[c].dist < -0.001)
+        ++self;
+      else if (r1 || r2)
+        ++other;
+    }
+    folded = self > 0 && other == 0;
+  }
+  ASSERT_TRUE(folded) << "no draw of the left arm touches only the robot itself";
+  const ChainIndex& base = scene->chain("base");
+  std::vector<double> start, goal;
+  for (size_t i = 0; i < base.joints.size(); ++i) start.push_back(d->qpos[base.qpos_adr[i]]);
+  goal = start;
+  goal[0] -= 0.3;
+  MotionPlanner planner(*scene, m, d, base.joints, {});
+  PlanOptions options;
+  options.max_iterations = 2000;
+  const core::PlanResult r = planner.plan({goal}, options);
+  EXPECT_EQ(r.status, core::PlanStatus::kExactSolution) << r.message;
+  ValidityChecker base_checker(*scene, m, d, base.joints, {});
+  EXPECT_FALSE(base_checker.in_collision(start.data()));
+  std::vector<double> folded_arm;
+  for (size_t i = 0; i < arm.joints.size(); ++i) folded_arm.push_back(d->qpos[arm.qpos_adr[i]]);
+  ValidityChecker arm_checker(*scene, m, d, arm.joints, {});
+  EXPECT_TRUE(arm_checker.in_collision(folded_arm.data()));
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, PlanOnBothRobots, ::testing::Values("tallbot", "minibot"));
 
 class IkOnBothRobots : public ::testing::TestWithParam<std::string> {};
