@@ -95,11 +95,12 @@ ParamSpec flag_param(std::string name, std::string doc, bool default_value) {
   return p;
 }
 
-MachineTransition on_failed(std::string from, std::string to) {
+MachineTransition on_failed(std::string from, std::string to, std::string when = "") {
   MachineTransition t;
   t.from = std::move(from);
   t.on = MessageType::kFailed;
   t.to = std::move(to);
+  t.when = std::move(when);
   return t;
 }
 
@@ -183,6 +184,11 @@ MachineSpec greet() {
               // The target walked out of view while the arm rose or waved: find it again
               // (the base turning too) and wave once more.
               state("find_raised", "fixate", find),
+              // The arm found no way up with the target in view (wedged under or beside
+              // furniture by a putdown: a shoulder below a table top, an arm over a counter):
+              // a step back, the arms to rest (a lowered torso up), then find and raise again.
+              state("make_room_to_raise", "retreat", step_back),
+              state("tuck_to_raise", "postural", lower_with_torso),
               state("raise_again", "postural", raise, in_view),
               state("wave_again", "canned", wave, in_view), state("lower", "postural", lower),
               state("make_room_to_lower", "retreat", step_back),
@@ -209,7 +215,12 @@ MachineSpec greet() {
                    on_failed("lower", "make_room_to_lower"),
                    on_completed("make_room_to_lower", "lower_again"),
                    on_completed("lower_again", "look"),
+                   on_failed("raise", "make_room_to_raise", in_view),
                    on_failed("raise", "find_raised"),
+                   on_completed("make_room_to_raise", "tuck_to_raise"),
+                   on_failed("make_room_to_raise", "tuck_to_raise"),
+                   on_completed("tuck_to_raise", "find_raised"),
+                   on_failed("tuck_to_raise", "find_raised"),
                    on_failed("wave", "find_raised"),
                    on_completed("find_raised", "raise_again"),
                    on_completed("raise_again", "wave_again"),

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <regex>
+#include <sstream>
 #include <stdexcept>
 
 #include "harness/run/trial.h"
@@ -398,6 +399,47 @@ time_limit_s: 200
 success: all_of(above(cup, work_surface), above(box, work_surface))
 )");
   return run_in_root(root, "restock.yaml", trial_id);
+}
+
+// A robot wedged under furniture (a wheeled robot that lowered its torso to set something
+// down under a table's edge) found the visitor but could not raise its arm: greet went to find
+// the visitor again and raised the same arm from the same place, and failed
+// (`greet > postural(raise_again): planning_timeout`). Constructed: a shelf board 3 cm above
+// tallbot's head, over its front, so that either arm's wave_start puts the hand in it. The
+// raise fails with the visitor in view; greet now steps back from the nearest surface (the
+// shelf), brings the arms to rest, finds the visitor and raises and waves from there. Before:
+// 0 of 4 (`postural(raise_again): invalid_goal: ... touches shelf_board`).
+TEST(GreetUnderAShelf, AnArmThatCannotRiseWithTheTargetInViewStepsBackAndWaves) {
+  test::ScratchRoot root;
+  root.replace("models/environments/kitchen/kitchen.xml", "    <body name=\"counter\"",
+               "    <body name=\"shelf\" pos=\"0.3 0 1.765\"><geom name=\"shelf_board\" "
+               "type=\"box\" size=\"0.3 0.8 0.015\"/></body>\n    <body name=\"counter\"");
+  root.replace("models/environments/kitchen/environment.yaml",
+               "  side_surface:", "  overhead: {body: shelf, kind: surface}\n  side_surface:");
+  root.write("greet.yaml", R"(program: greet
+params: {target: visitor}
+robots: [tallbot]
+environments: [kitchen]
+perception: ground_truth
+layout_seed: 1
+seed: 1
+trials: 4
+time_limit_s: 40
+visitor: {walk_speed: 0.0}
+success: in_view(visitor)
+)");
+  const std::string trials = run_in_root(root, "greet.yaml");
+  size_t lines = 0;
+  std::istringstream in(trials);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty()) continue;
+    ++lines;
+    EXPECT_NE(line.find("\"success\":true"), std::string::npos) << line.substr(0, 2000);
+    // The case described: the first raise failed against the shelf, then the step back.
+    EXPECT_NE(line.find("touches shelf_board"), std::string::npos) << line.substr(0, 2000);
+    EXPECT_NE(line.find("\"program\":\"retreat\""), std::string::npos) << line.substr(0, 2000);
+  }
+  EXPECT_EQ(lines, 4u) << trials.substr(0, 2000);
 }
 
 // After setting the cup down beside the box, tallbot's thumb rested 0.3 mm against the box,
