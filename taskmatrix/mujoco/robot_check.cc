@@ -27,6 +27,14 @@ constexpr double kFingerCloses = 0.005;
 // How often (s of the motion) the canned check samples a canned motion.
 constexpr double kCannedSampleS = 0.02;
 
+// The items with `sep` between them ("a, b, c").
+template <class Strings>
+std::string joined(const Strings& items, const char* sep) {
+  std::string out;
+  for (const std::string& item : items) out += (out.empty() ? "" : sep) + item;
+  return out;
+}
+
 std::string fixed(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
@@ -238,11 +246,9 @@ std::vector<RobotFinding> check_canned(const Scene& scene) {
     }
   }
   if (!clean.empty()) {
-    std::string list;
-    for (const std::string& n : clean) list += (list.empty() ? "" : ", ") + n;
-    out.push_back(
-        {Level::kOk, "canned",
-         list + ": the robot touches neither itself nor the floor through the keyframes"});
+    out.push_back({Level::kOk, "canned",
+                   joined(clean, ", ") +
+                       ": the robot touches neither itself nor the floor through the keyframes"});
   }
   return out;
 }
@@ -293,14 +299,12 @@ RobotFinding check_joint_ranges(const Scene& scene) {
             "every torso, head and arm joint at either limit (the rest at rest) leaves its "
             "chain's links apart"};
   }
-  std::string list;
-  for (const std::string& f : found) list += (list.empty() ? "" : "; ") + f;
   return {Level::kWarning, "joint ranges",
           std::to_string(count) +
               " joint limits fold a link of the chain into another (the range reaches past "
               "where they meet; a plan may end a hair from that contact and physics then holds "
               "it): " +
-              list};
+              joined(found, "; ")};
 }
 
 std::vector<RobotFinding> check_postures(const Scene& scene) {
@@ -328,11 +332,9 @@ std::vector<RobotFinding> check_postures(const Scene& scene) {
       }
     }
     if (!touching.empty()) {
-      std::string list;
-      for (const std::string& t : touching) list += (list.empty() ? "" : "; ") + t;
-      out.push_back(
-          {Level::kError, "postures",
-           "postures." + name + ": at the start of " + scene.environment().name + ", " + list});
+      out.push_back({Level::kError, "postures",
+                     "postures." + name + ": at the start of " + scene.environment().name + ", " +
+                         joined(touching, "; ")});
     } else if (!within_hand.empty()) {
       out.push_back({Level::kWarning, "postures",
                      "postures.fist: fingers touch each other or the palm (" +
@@ -344,10 +346,9 @@ std::vector<RobotFinding> check_postures(const Scene& scene) {
     }
   }
   if (!clean.empty()) {
-    std::string list;
-    for (const std::string& n : clean) list += (list.empty() ? "" : ", ") + n;
-    out.push_back({Level::kOk, "postures",
-                   list + ": touch nothing at the start of " + scene.environment().name});
+    out.push_back(
+        {Level::kOk, "postures",
+         joined(clean, ", ") + ": touch nothing at the start of " + scene.environment().name});
   }
   return out;
 }
