@@ -3,8 +3,9 @@
 // taken by either limb: with side "any" the program mirrors it to the other limb when the
 // named one is busy or the other is already there, or when only the other's touches nothing,
 // and otherwise picks one at random (from the run's seed sequence, so a run is reproducible). With
-// `skip_busy`, chains of the posture that other programs hold are left out (greet lowers the waving
-// arm while the other arm may be holding something).
+// `skip_busy`, chains of the posture that other programs hold, and the arm and hand of a hand
+// holding an object, are left out (greet lowers the waving arm and leaves the arm carrying a
+// cup as it is, its hand closed).
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
 
@@ -27,7 +28,7 @@ class Postural final : public core::TaskProgram {
     if (skip_busy_) {
       std::vector<std::string> free;
       for (const std::string& c : posture_values(ctx.skills, posture_, only_).chains) {
-        if (!ctx.busy(c)) free.push_back(c);
+        if (!chain_taken(ctx, c)) free.push_back(c);
       }
       if (free.empty()) {
         throw std::invalid_argument("every chain of posture '" + posture_ + "' is busy");
@@ -98,7 +99,7 @@ core::ProgramType postural_program() {
             false,
             false,
             {},
-            "leave out the chains other programs hold"}},
+            "leave out the chains other programs hold and the arm and hand holding an object"}},
           [](const core::Params& p) { return std::make_unique<Postural>(p); }};
 }
 

@@ -116,6 +116,17 @@ std::optional<double> heading_within_limits(const core::ChainInfo& base, double 
   return yaw;
 }
 
+bool chain_taken(const core::ClaimContext& ctx, const std::string& chain) {
+  if (ctx.busy(chain)) return true;
+  for (const char* side : {"left", "right"}) {
+    if (chain != arm_of(side) && chain != hand_of(side)) continue;
+    for (const std::string& o : ctx.skills.attached_objects()) {
+      if (ctx.skills.holder_of(o) == side) return true;
+    }
+  }
+  return false;
+}
+
 LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
                        const std::string& side) {
   const std::string named_side = single_side(named.chains);
@@ -123,7 +134,8 @@ LimbChoice choose_limb(const core::ClaimContext& ctx, const ChainValues& named,
   if (side != "any") return {side != named_side};
   const ChainValues other = mirrored(ctx.skills, named);
   auto busy = [&](const ChainValues& v) {
-    return std::any_of(v.chains.begin(), v.chains.end(), ctx.busy);
+    return std::any_of(v.chains.begin(), v.chains.end(),
+                       [&](const std::string& c) { return chain_taken(ctx, c); });
   };
   const bool named_busy = busy(named), other_busy = busy(other);
   if (named_busy != other_busy) return {named_busy};

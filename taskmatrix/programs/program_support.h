@@ -47,11 +47,16 @@ ChainValues mirrored(const core::Skillset& skills, const ChainValues& values);
 ChainValues posture_values(const core::Skillset& skills, const std::string& posture,
                            const std::vector<std::string>& only_chains);
 
+// Whether a chain is taken: held by a running program (ClaimContext::busy), or an arm or hand
+// whose hand holds an object (a limb carrying something is not free to wave or to rest: its
+// hand would open, the object would swing).
+bool chain_taken(const core::ClaimContext& ctx, const std::string& chain);
+
 // For programs whose target is a single-limb posture or motion: the version to use, given
 // `side` ("any", "left", "right" or "as_named"). With "any": the other limb if the named one
-// is busy (or the reverse), the one already at its first values if one is, the one whose
-// values touch nothing if only one does (ClaimContext::clear), else one at random.
-// `first` gives the values to compare with the current configuration.
+// is taken (chain_taken; or the reverse), the one already at its first values if one is, the one
+// whose values touch nothing if only one does (ClaimContext::clear), else one at random. `first`
+// gives the values to compare with the current configuration.
 struct LimbChoice {
   bool mirror = false;  // use the mirrored values
 };

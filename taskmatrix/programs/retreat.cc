@@ -30,9 +30,10 @@ class Retreat final : public core::TaskProgram {
     }
   }
 
-  std::vector<std::string> chains(const core::Skillset&) const override {
-    // The base, and the arms a hand close to something withdraws first.
-    if (part_ == "base") return {"base", arm_of("left"), arm_of("right")};
+  std::vector<std::string> chains(const core::Skillset& skills) const override {
+    // The base, and the arms a hand close to something withdraws first; the torso (if the
+    // robot has one) and the arms when the base alone finds no way.
+    if (part_ == "base") return body(skills);
     return {arm_of(side_ == "any" ? "left" : side_)};
   }
   std::vector<std::string> claim(const core::ClaimContext& ctx) override {
@@ -98,10 +99,11 @@ class Retreat final : public core::TaskProgram {
   // Starts the base's step away from `from`, or first a hand's withdrawal; why neither can.
   // Straight away first. Where that goal is taken or the way there blocked (a counter beside
   // the table it steps back from, the corner of another), directions turned from it in steps
-  // of 30 degrees up to 90 either way, nearest first. A direction whose straight step is clear
-  // is planned to at once; where none is, a hand close to something (fingers round what a
-  // putdown has just let go of) withdraws first, each hand once, and then the directions are
-  // planned to in turn, at most kPlans of them (each plan's work is bounded by iterations).
+  // of 30 degrees up to 90 either way, nearest first. The first direction whose straight step
+  // is clear is planned to at once; where none is, or that plan finds no way, a hand close to
+  // something (fingers round what a putdown has just let go of) withdraws first, each hand
+  // once, and then the directions are planned to in turn, at most kPlans plans in all (each
+  // plan's work is bounded by iterations); last, the base with the arms to the first direction.
   std::optional<core::Failure> step_base(core::ProgramContext& ctx) {
     core::Skillset& skills = ctx.skills();
     const std::vector<double> base = skills.configuration({"base"});
@@ -152,8 +154,20 @@ class Retreat final : public core::TaskProgram {
       }
       return true;
     };
-    for (const std::vector<double>& goal : goals) {
-      if (straight_clear(goal)) return motion_.plan_to_configuration(ctx, {"base"}, goal);
+    // The first failed plan: the program's failure if nothing after it does better.
+    std::optional<core::Failure> first;
+    int planned = 0;
+    size_t tried = goals.size();  // the goal planned to below, if any
+    for (size_t k = 0; k < goals.size(); ++k) {
+      if (!straight_clear(goals[k])) continue;
+      // Clear at every step, yet no way found within the clearance plans keep (a hand open
+      // round a handle it has just let go of): the hands withdraw first, as below.
+      std::optional<core::Failure> failure = motion_.plan_to_configuration(ctx, {"base"}, goals[k]);
+      if (!failure || !found_no_way(*failure)) return failure;
+      first = std::move(failure);
+      ++planned;
+      tried = k;
+      break;
     }
     for (const char* side : {"left", "right"}) {
       const std::string arm = arm_of(side);
@@ -167,16 +181,35 @@ class Retreat final : public core::TaskProgram {
       motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
       return std::nullopt;
     }
-    std::optional<core::Failure> first;
-    int planned = 0;
-    for (const std::vector<double>& goal : goals) {
-      std::optional<core::Failure> failure = motion_.plan_to_configuration(ctx, {"base"}, goal);
+    for (size_t k = 0; k < goals.size() && planned < kPlans; ++k) {
+      if (k == tried) continue;
+      std::optional<core::Failure> failure = motion_.plan_to_configuration(ctx, {"base"}, goals[k]);
       if (!failure) return std::nullopt;  // following
       if (!first) first = std::move(failure);
-      if (++planned == kPlans) break;
+      ++planned;
+    }
+    // The base alone found no way (a hand hovering a few millimetres over the table keeps that
+    // height as the base moves, short of the clearance every plan keeps away from its ends):
+    // the base with the torso and the arms, which may move on the way and end as they are.
+    if (found_no_way(*first)) {
+      const std::vector<std::string> chains = body(skills);
+      std::vector<double> goal = clamped_configuration(skills, chains);
+      std::copy(goals.front().begin(), goals.front().end(), goal.begin());
+      std::optional<core::Failure> failure = motion_.plan_to_configuration(ctx, chains, goal);
+      if (!failure) return std::nullopt;
+      ++planned;
     }
     first->detail += where + ", " + std::to_string(planned) + " planned)";
     return first;
+  }
+
+  // The base first, then the torso if the robot has one, and the arms.
+  static std::vector<std::string> body(const core::Skillset& skills) {
+    std::vector<std::string> chains = {"base"};
+    if (skills.profile().find_chain("torso")) chains.push_back("torso");
+    chains.push_back(arm_of("left"));
+    chains.push_back(arm_of("right"));
+    return chains;
   }
 
   // `from`, or the surface nearest to the base or a hand.
