@@ -10,7 +10,8 @@
 // robot's own body included (clearance).
 //
 // Records "tracking_error_rad" (the angle between the optical axis and the object) every
-// control period. Ends when halted, after `duration` seconds if given, or, with
+// control period. Ends when halted, after `duration` seconds if given (failing,
+// `tracking_error`, if the object was never in view meanwhile), or, with
 // `until_centered`, once the object has stayed centred for 0.3 s: within `tolerance`, or, for
 // a head that cannot do better (a neck without pitch), in view with the head at its best
 // configuration and no horizontal error left. A robot without a head chain (its camera fixed
@@ -185,6 +186,7 @@ class Fixate final : public core::TaskProgram {
     }
 
     const double now = ctx.time();
+    ever_in_view_ = ever_in_view_ || core::in_camera_view(skills, o->box);
     if (error <= tolerance_ || best_possible) {
       if (centered_since_ < 0) centered_since_ = now;
     } else {
@@ -203,6 +205,16 @@ class Fixate final : public core::TaskProgram {
                       (duration_ > 0 && now - start_time_ >= duration_ - 1e-9);
     if (!done) return core::ProgramState::kRunning;
     stop_base(skills);
+    if (!ever_in_view_) {
+      // The duration ran out with the object never in view: nothing was tracked.
+      char buf[240];
+      std::snprintf(buf, sizeof buf, "'%s' never in view in %.1f s (at best %.2f rad off%s)",
+                    object_.c_str(), now - start_time_, best_error_,
+                    blocked_since_ >= 0
+                        ? "; the base cannot turn towards it without touching something"
+                        : "");
+      return fail(core::Failure(core::FailureCode::kTrackingError, buf));
+    }
     return core::ProgramState::kCompleted;
   }
 
@@ -286,6 +298,7 @@ class Fixate final : public core::TaskProgram {
   double blocked_since_ = -1;     // since when each base turn asked for was refused
   bool going_round_ = false;      // turning the other way round past the yaw's limit
   double best_error_ = INFINITY;  // rad, the nearest the object came to the optical axis
+  bool ever_in_view_ = false;     // the object has been in the camera's view
   std::optional<core::Failure> failure_;
 };
 

@@ -835,6 +835,33 @@ success: in_view(visitor)
 )");
 }
 
+// fixate for a duration, with the base held, facing away from the cup on the table: the neck
+// cannot turn the camera round to it. It completed all the same after its duration, though
+// nothing was ever tracked (a task's "look at what was set down" then read as done; the swap
+// task of the README, atlas with its base turn refused beside the desk). Now it fails
+// and says so.
+TEST(FixateForADuration, AnObjectNeverInViewIsAFailureThatSaysSo) {
+  test::ScratchRoot root;
+  root.replace("models/environments/kitchen/environment.yaml",
+               "robot_start: {x: 0.0, y: 0.0, yaw: 0.0}",
+               "robot_start: {x: 0.0, y: 0.0, yaw: 3.14159}");
+  root.write("look.yaml", R"(program: fixate
+params: {object: cup, duration: 1, base: false}
+robots: [tallbot]
+environments: [kitchen]
+obstacles: {count: 0}
+layout_seed: 1
+seed: 1
+trials: 1
+time_limit_s: 10
+)");
+  const std::string trials = run_in_root(root, "look.yaml");
+  EXPECT_NE(trials.find("\"status\":\"tracking_error\""), std::string::npos)
+      << trials.substr(0, 2000);
+  EXPECT_NE(trials.find("'cup' never in view in 1.0 s"), std::string::npos)
+      << trials.substr(0, 2000);
+}
+
 // atlas has no neck yaw: only its base turns its camera towards the visitor walking behind it.
 // fixate stepped the base's command on by what was still to turn, measured from a base that
 // lags its command under physics, so the command ran ahead and the base swung 0.1 rad either

@@ -120,7 +120,7 @@ TEST_F(Variations, BadValuesAreRejectedWithFileLineAndKey) {
 // the table, neither in it nor thrown off it.
 TEST_F(Variations, ObjectsTurnedOnASurfaceStartClearOfItAndSettleOnIt) {
   const auto scenario = write("side.yaml",
-                              "program: fixate\nparams: {object: cup, duration: 0.5}\n"
+                              "program: fixate\nparams: {object: work_surface, duration: 0.5}\n"
                               "robots: [tallbot]\nenvironments: [office]\n"
                               "objects:\n"
                               "  box: {on: side_surface, yaw: [-3.14159, 3.14159]}\n"

@@ -185,7 +185,7 @@ TEST_P(PrimitivesTest, FixateFromAHeadAHairPastItsLimitsRunsAndHalts) {
     mj_forward(m, d);
   };
   push_past_limits();
-  const core::Message timed = run("fixate", {{"object", "cup"}, {"duration", "0.2"}});
+  const core::Message timed = run("fixate", {{"object", "cup"}, {"duration", "2"}});
   EXPECT_EQ(timed.type, MessageType::kCompleted) << timed.reason();
   // Halted while the head sits past its limits: it holds at them, nothing fails.
   const int id = executive_->start("fixate", {{"object", "cup"}});
