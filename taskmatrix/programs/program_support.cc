@@ -116,12 +116,24 @@ std::optional<double> heading_within_limits(const core::ChainInfo& base, double 
   return yaw;
 }
 
+namespace {
+
+// The objects the hand on `side` holds.
+std::vector<std::string> held_by(const core::Skillset& skills, const std::string& side) {
+  std::vector<std::string> held;
+  for (const std::string& o : skills.attached_objects()) {
+    if (skills.holder_of(o) == side) held.push_back(o);
+  }
+  return held;
+}
+
+}  // namespace
+
 bool chain_taken(const core::ClaimContext& ctx, const std::string& chain) {
   if (ctx.busy(chain)) return true;
   for (const char* side : {"left", "right"}) {
-    if (chain != arm_of(side) && chain != hand_of(side)) continue;
-    for (const std::string& o : ctx.skills.attached_objects()) {
-      if (ctx.skills.holder_of(o) == side) return true;
+    if ((chain == arm_of(side) || chain == hand_of(side)) && !held_by(ctx.skills, side).empty()) {
+      return true;
     }
   }
   return false;
@@ -161,15 +173,6 @@ namespace {
 
 constexpr double kEscapeMaxJointStep = 0.3;       // rad (or m) per escape step
 constexpr double kEscapeMaxPalmDeviation = 0.01;  // m, halfway through an escape step
-
-// The objects the hand on `side` holds.
-std::vector<std::string> held_by(core::Skillset& skills, const std::string& side) {
-  std::vector<std::string> held;
-  for (const std::string& o : skills.attached_objects()) {
-    if (skills.holder_of(o) == side) held.push_back(o);
-  }
-  return held;
-}
 
 }  // namespace
 
