@@ -379,12 +379,16 @@ core::IkResult solve_ik(const Scene& scene, const mjModel* m, mjData* d,
             // Bound to the state the query started from.
             std::copy(saved.begin(), saved.end(), d->qpos);
             checker.emplace(scene, m, d, joints, attachments);
+            checker->keep_off_visitor_route();
           }
           if (checker->in_collision(solution.data())) {
             if (converged_in_collision++ == 0) {
               // What the first one touches, for the reason: its first contact.
               for (int i = 0; i < n; ++i) d->qpos[adr[i]] = solution[i];
-              first_contact = describe_robot_contacts(scene, m, d, attachments);
+              first_contact = checker->visitor_route_hit();
+              if (first_contact.empty()) {
+                first_contact = describe_robot_contacts(scene, m, d, attachments);
+              }
               first_contact = first_contact.substr(0, first_contact.find(';'));
             }
             break;

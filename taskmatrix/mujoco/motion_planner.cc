@@ -172,10 +172,12 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
   for (size_t i = 0; i < n; ++i) d->qpos[m->jnt_qposadr[joints_[i]]] = start[i];
   mj_kinematics(m, d);
   ValidityChecker checker(scene_, m, d, joints_, attachments_);
+  checker.keep_off_visitor_route();
   // Near the start, contact with what the start may touch is allowed (shallow).
   std::optional<ValidityChecker> touching;
   if (!touch_geoms_.empty()) {
     touching.emplace(scene_, m, d, joints_, attachments_, touch_geoms_, kTouchDepth);
+    touching->keep_off_visitor_route();
   }
   // Contacts the planned joints cannot change (the other hand resting against what it set
   // down) stay as they are along any path: shallow ones are left out of every check, as
@@ -309,7 +311,8 @@ core::PlanResult MotionPlanner::plan(const std::vector<std::vector<double>>& goa
     std::string what = "outside the joint limits";
     if (within(goals.front())) {
       checker.in_collision(goals.front().data(), /*count=*/false);
-      what = describe_robot_contacts(scene_, m, d, attachments_);
+      what = checker.visitor_route_hit();
+      if (what.empty()) what = describe_robot_contacts(scene_, m, d, attachments_);
     }
     restore();
     return fail(core::PlanStatus::kInvalidGoal,

@@ -380,6 +380,7 @@ bool MujocoSkillset::do_is_valid(const std::vector<std::string>& chain_names,
   refresh_supports();
   sync_query();
   ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, held_.list());
+  checker.keep_off_visitor_route();
   return !checker.in_collision(values.data());
 }
 

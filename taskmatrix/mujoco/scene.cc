@@ -105,6 +105,35 @@ void check_head_camera(const Scene& scene, const std::string& pfile) {
 
 }  // namespace
 
+Eigen::Vector2d horizontal_half_extent(const mjModel* m, const mjData* d, int g) {
+  const double* size = m->geom_size + 3 * g;
+  Eigen::Vector3d local;
+  switch (m->geom_type[g]) {
+    case mjGEOM_SPHERE:
+      local = Eigen::Vector3d::Constant(size[0]);
+      break;
+    case mjGEOM_CAPSULE:
+      local = Eigen::Vector3d(size[0], size[0], size[1] + size[0]);
+      break;
+    case mjGEOM_CYLINDER:
+      local = Eigen::Vector3d(size[0], size[0], size[1]);
+      break;
+    case mjGEOM_BOX:
+    case mjGEOM_ELLIPSOID:
+      local = Eigen::Vector3d(size[0], size[1], size[2]);
+      break;
+    default:
+      return Eigen::Vector2d::Constant(m->geom_rbound[g]);
+  }
+  const double* r = d->geom_xmat + 9 * g;  // row-major: world = R * local
+  Eigen::Vector2d out;
+  for (int i = 0; i < 2; ++i) {
+    out[i] = std::abs(r[3 * i]) * local.x() + std::abs(r[3 * i + 1]) * local.y() +
+             std::abs(r[3 * i + 2]) * local.z();
+  }
+  return out;
+}
+
 std::shared_ptr<const Scene> Scene::load(const std::filesystem::path& robot_dir,
                                          const std::filesystem::path& environment_dir) {
   std::shared_ptr<Scene> scene(new Scene());
@@ -353,6 +382,15 @@ void Scene::index_and_validate() {
                        "body '" + environment_.visitor.body + "' is missing");
     object_footprints_.push_back(footprint_of_body(b, "visitor.body"));
     object_footprint_bodies_.push_back(b);
+    const Eigen::Vector2d axis(d->xpos[3 * b], d->xpos[3 * b + 1]);
+    for (int g = 0; g < m->ngeom; ++g) {
+      int up = m->geom_bodyid[g];
+      while (up > 0 && up != b) up = m->body_parentid[up];
+      if (up != b) continue;
+      const Eigen::Vector2d at(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1]);
+      visitor_radius_ = std::max(
+          visitor_radius_, (at - axis).norm() + horizontal_half_extent(m, d.get(), g).maxCoeff());
+    }
   }
   for (const std::string& cam : environment_.cameras) {
     if (mj_name2id(m, mjOBJ_CAMERA, cam.c_str()) < 0) {

@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "taskmatrix/core/environment_spec.h"
 #include "taskmatrix/core/obstacle_layout.h"
 #include "taskmatrix/core/robot_profile.h"
@@ -49,6 +51,11 @@ struct RobotContact {
   double distance = 0;  // negative: penetration
 };
 
+// Half the extent of geom `g` (as posed in `d`) along the world's x and y: its box, or the box
+// round its primitive shape, turned into the world (a mesh or anything else: its bounding
+// sphere).
+Eigen::Vector2d horizontal_half_extent(const mjModel* m, const mjData* d, int g);
+
 class Scene {
  public:
   // Loads models/robots/<robot>/profile.yaml and models/environments/<env>/environment.yaml,
@@ -76,6 +83,10 @@ class Scene {
   int hand_of_body(int body) const;
   bool same_hand(int body1, int body2) const;
   const std::vector<ObstacleSlot>& obstacle_slots() const { return obstacle_slots_; }
+  // The farthest the visitor's geoms reach from its vertical axis as it stands in the model (a
+  // geom's reach: its centre's distance plus the larger of its half extents along x and y);
+  // 0 for an environment without a visitor.
+  double visitor_radius() const { return visitor_radius_; }
   // Every geom pair with a robot geom that can ever produce a contact: not filtered by
   // MuJoCo's weld/parent rule or an <exclude>, and with collision bits set, or an obstacle
   // slot (whose bits change per layout). Computed once, at load.
@@ -139,6 +150,7 @@ class Scene {
   std::vector<ChainIndex> chains_;
   int head_camera_ = -1;
   int robot_root_ = -1;
+  double visitor_radius_ = 0;
   std::vector<ObstacleSlot> obstacle_slots_;
   std::vector<GeomPair> robot_geom_pairs_;
   std::vector<char> ever_collides_;

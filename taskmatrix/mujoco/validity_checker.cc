@@ -190,6 +190,7 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
     object_of[b] = parent_object;
   }
 
+  for (int adr : qpos_adr_) bound_values_.push_back(d->qpos[adr]);
   mj_kinematics(m, d);
   for (const Attachment& a : attachments_) place_attached(a);
   // The nearest body at or above each body that a moving joint turns or slides (0: none).
@@ -252,8 +253,7 @@ ValidityChecker::ValidityChecker(const Scene& scene, const mjModel* m, mjData* d
   object_of_ = std::move(object_of);
 }
 
-void ValidityChecker::compute_clearance_groups() {
-  if (joint_reach_.size() == joints_.size()) return;
+std::vector<double> ValidityChecker::subtree_reach() const {
   const mjModel* m = m_;
   const std::vector<char>& moving = moving_;
   const std::vector<int>& object_of = object_of_;
@@ -271,9 +271,8 @@ void ValidityChecker::compute_clearance_groups() {
     }
     return offset;
   };
-  // reach[b]: the farthest any point of a geom of b's subtree (and of what it holds) can be
-  // from b's origin. Children follow their parents in MuJoCo's body order: visit in reverse,
-  // held objects first (their pose in the holder's frame is fixed; no joints inside them).
+  // Children follow their parents in MuJoCo's body order: visit in reverse, held objects first
+  // (their pose in the holder's frame is fixed; no joints inside them).
   std::vector<double> reach(m->nbody, 0.0);
   auto add_geoms = [&](int b) {
     for (int k = 0; k < m->body_geomnum[b]; ++k) {
@@ -297,6 +296,16 @@ void ValidityChecker::compute_clearance_groups() {
     const int parent = m->body_parentid[b];
     if (moving[parent]) reach[parent] = std::max(reach[parent], origin_offset(b) + reach[b]);
   }
+  return reach;
+}
+
+void ValidityChecker::compute_clearance_groups() {
+  if (joint_reach_.size() == joints_.size()) return;
+  const mjModel* m = m_;
+  const std::vector<char>& moving = moving_;
+  const std::vector<int>& object_of = object_of_;
+  auto norm3 = [](const mjtNum* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  const std::vector<double> reach = subtree_reach();
   joint_reach_.clear();
   for (int j : joints_) {
     joint_reach_.push_back(
@@ -551,6 +560,7 @@ void ValidityChecker::set_values(const double* values) {
 
 bool ValidityChecker::begin_check(const double* values, bool count) {
   if (count) ++checks_;
+  route_hit_ = -1;
   if (static_collision_) {
     for (size_t i = 0; i < qpos_adr_.size(); ++i) d_->qpos[qpos_adr_[i]] = values[i];
     return false;
@@ -559,8 +569,88 @@ bool ValidityChecker::begin_check(const double* values, bool count) {
   return true;
 }
 
+void ValidityChecker::keep_off_visitor_route(double berth_m) {
+  route_.clear();
+  route_groups_.clear();
+  const core::VisitorSpec& visitor = scene_.environment().visitor;
+  if (visitor.body.empty() || visitor.path.empty()) return;
+  for (const auto& p : visitor.path) route_.emplace_back(p[0], p[1]);
+  route_radius_ = scene_.visitor_radius() + std::max(0.0, berth_m);
+  const std::vector<double> reach = subtree_reach();
+  // Measured at the bound state: geoms already on the route are left out.
+  set_values(bound_values_.data());
+  for (int g = 0; g < m_->ngeom; ++g) {
+    if (m_->geom_contype[g] == 0 && m_->geom_conaffinity[g] == 0) continue;
+    int b = m_->geom_bodyid[g];
+    if (object_of_[b] >= 0) b = attachments_[static_cast<size_t>(object_of_[b])].holder_body;
+    if (!moving_[b] || !scene_.is_robot_body(b)) continue;
+    if (geom_on_route(g)) continue;
+    while (moving_[m_->body_parentid[b]]) b = m_->body_parentid[b];
+    auto group = std::find_if(route_groups_.begin(), route_groups_.end(),
+                              [&](const RouteGroup& r) { return r.root == b; });
+    if (group == route_groups_.end()) {
+      route_groups_.push_back({b, reach[b], {}});
+      group = route_groups_.end() - 1;
+    }
+    group->geoms.push_back(g);
+  }
+  route_hit_ = -1;
+}
+
+double ValidityChecker::distance_to_route(const Eigen::Vector2d& c, Eigen::Vector2d* away) const {
+  Eigen::Vector2d nearest = route_.front();
+  for (size_t i = 1; i < route_.size(); ++i) {
+    const Eigen::Vector2d a = route_[i - 1], ab = route_[i] - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0 ? std::clamp((c - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    if ((c - (a + t * ab)).squaredNorm() < (c - nearest).squaredNorm()) nearest = a + t * ab;
+  }
+  if (away) *away = c - nearest;
+  return (c - nearest).norm();
+}
+
+bool ValidityChecker::geom_on_route(int g) const {
+  Eigen::Vector2d away;
+  const double dist =
+      distance_to_route(Eigen::Vector2d(d_->geom_xpos[3 * g], d_->geom_xpos[3 * g + 1]), &away);
+  const double rbound = m_->geom_rbound[g];
+  if (dist >= route_radius_ + rbound) return false;
+  // How far the geom reaches from its centre towards the route: the box round it, seen along
+  // that direction (within its bounding sphere).
+  const Eigen::Vector2d half = horizontal_half_extent(m_, d_, g);
+  const double towards = dist > 0 ? (away.cwiseAbs() / dist).dot(half) : half.maxCoeff();
+  return dist < route_radius_ + std::min(rbound, towards);
+}
+
+bool ValidityChecker::on_visitor_route() {
+  route_hit_ = -1;
+  for (const RouteGroup& group : route_groups_) {
+    const double* root = d_->xpos + 3 * group.root;
+    if (distance_to_route(Eigen::Vector2d(root[0], root[1])) >= route_radius_ + group.reach) {
+      continue;
+    }
+    for (int g : group.geoms) {
+      if (geom_on_route(g)) {
+        route_hit_ = g;
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+std::string ValidityChecker::visitor_route_hit() const {
+  if (route_hit_ < 0) return "";
+  const char* name = mj_id2name(m_, mjOBJ_GEOM, route_hit_);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "'%s' within %.2f m of the visitor's route", name ? name : "?",
+                route_radius_);
+  return buf;
+}
+
 bool ValidityChecker::in_collision(const double* values, bool count) {
   if (!begin_check(values, count)) return true;
+  if (on_visitor_route()) return true;
   const bool hit = any_changing_pair(0.0, [&](size_t k) {
     return pair_in_contact(changing_pairs_[k], changing_pair_tolerance_[k]);
   });
@@ -573,6 +663,7 @@ bool ValidityChecker::in_collision(const double* values, bool count) {
 
 bool ValidityChecker::within_margin(const double* values, double margin_m, bool count) {
   if (!begin_check(values, count)) return true;
+  if (on_visitor_route()) return true;
   const bool hit = any_changing_pair(std::max(0.0, margin_m), [&](size_t k) {
     const GeomPair& p = changing_pairs_[k];
     if (changing_pair_tolerance_[k] > 0) return pair_in_contact(p, changing_pair_tolerance_[k]);

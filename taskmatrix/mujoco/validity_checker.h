@@ -11,6 +11,8 @@
 //   - a bounding-sphere test first, MuJoCo's narrow-phase function second, and it stops at
 //     the first contact.
 // Verdicts are identical to the raw check; a test compares them on 100,000 configurations.
+// Asked to (keep_off_visitor_route), it also counts the visitor's route as taken, which the raw
+// check knows nothing of.
 #pragma once
 
 #include <array>
@@ -66,6 +68,11 @@ int collide_geoms(const mjModel* m, mjData* d, const GeomPair& p, double margin,
 bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
                             const std::vector<Attachment>& attachments = {});
 
+// The berth plans keep from the visitor's route beyond the visitor's own radius (m): a person
+// walks it back and forth, and a plan made while they are elsewhere on it must not put the
+// robot where they will be.
+inline constexpr double kVisitorBerthM = 0.1;
+
 class ValidityChecker {
  public:
   // `moving_joints`: MuJoCo joint ids the queries may change (hinge or slide robot joints).
@@ -99,6 +106,19 @@ class ValidityChecker {
   // own links keep none from each other) and pairs with a support tolerance (a held object on
   // what it rested on) are checked as in in_collision. `count` as there.
   bool within_margin(const double* values, double margin_m, bool count = true);
+
+  // Keeps the robot off the visitor's route from now on: in_collision and within_margin count
+  // a configuration as a collision where a geom the moving joints move (a held object's too)
+  // comes within the visitor's radius (Scene::visitor_radius) plus `berth_m` of the route,
+  // seen from above: the distance from the geom's centre to the nearest point of the route's
+  // polyline, less how far the geom reaches from its centre that way (the box round it, seen
+  // along that direction, at most its bounding radius). Geoms that close at the bound state
+  // are left out: where the robot is, it may stay. Nothing changes in an environment without a
+  // visitor route.
+  void keep_off_visitor_route(double berth_m = kVisitorBerthM);
+  // After a check that counted a collision: the geom found on the visitor's route, as
+  // "'r_uarm' within 0.45 m of the visitor's route"; empty if the route was not what counted.
+  std::string visitor_route_hit() const;
 
   // Smallest signed distance (m) between the geoms the moving joints move (attached objects
   // included) and everything they may touch, at `values`; capped at `cap_m`. Negative values
@@ -149,6 +169,9 @@ class ValidityChecker {
   };
   // joint_reach_, clearance_groups_ and the pairs' groups, once.
   void compute_clearance_groups();
+  // Per body: the farthest any point of a geom of its subtree (and of what it holds) can be
+  // from its origin, in any configuration of the moving joints (0 for bodies that do not move).
+  std::vector<double> subtree_reach() const;
   void set_values(const double* values);
   void update_moving_kinematics();
   void place_attached(const Attachment& a);
@@ -204,6 +227,25 @@ class ValidityChecker {
   // margin world pairs get (every pair with `extra_for_all`).
   template <class Hit>
   bool any_changing_pair(double extra, Hit hit, bool extra_for_all = false);
+  // True (and route_hit_ set) if a route geom is on the visitor's route at the posed state.
+  bool on_visitor_route();
+  // Whether geom `g` (as posed in d_) comes within route_radius_ of the route.
+  bool geom_on_route(int g) const;
+  // Distance (m, seen from above) from `c` to the route's polyline; `away`: from its nearest
+  // point to `c`.
+  double distance_to_route(const Eigen::Vector2d& c, Eigen::Vector2d* away = nullptr) const;
+  std::vector<double> bound_values_;    // the moving joints' values at the bound state
+  std::vector<Eigen::Vector2d> route_;  // the visitor's path (world x, y), if kept off
+  double route_radius_ = 0;             // the visitor's radius plus the berth
+  // The geoms kept off it, grouped under the topmost moving body above them, which is skipped
+  // whole while its origin is farther from the route than the radius plus its subtree's reach.
+  struct RouteGroup {
+    int root = -1;
+    double reach = 0;
+    std::vector<int> geoms;
+  };
+  std::vector<RouteGroup> route_groups_;
+  int route_hit_ = -1;  // the geom the last check found on it
   std::vector<Attachment> attachments_;
   std::vector<size_t> moving_attachments_;    // indices into attachments_
   std::vector<AttachedPair> attached_pairs_;  // pairs that move with moving attachments

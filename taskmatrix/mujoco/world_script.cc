@@ -2,47 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <stdexcept>
 #include <string>
 
 namespace taskmatrix::mujoco {
-
-namespace {
-
-// Half the extent of geom `g` (as posed in `d`) along the world's x and y: its box, or the box
-// round its primitive shape, turned into the world (a mesh or anything else: its bounding
-// sphere).
-Eigen::Vector2d horizontal_half_extent(const mjModel* m, const mjData* d, int g) {
-  const double* size = m->geom_size + 3 * g;
-  Eigen::Vector3d local;
-  switch (m->geom_type[g]) {
-    case mjGEOM_SPHERE:
-      local = Eigen::Vector3d::Constant(size[0]);
-      break;
-    case mjGEOM_CAPSULE:
-      local = Eigen::Vector3d(size[0], size[0], size[1] + size[0]);
-      break;
-    case mjGEOM_CYLINDER:
-      local = Eigen::Vector3d(size[0], size[0], size[1]);
-      break;
-    case mjGEOM_BOX:
-    case mjGEOM_ELLIPSOID:
-      local = Eigen::Vector3d(size[0], size[1], size[2]);
-      break;
-    default:
-      return Eigen::Vector2d::Constant(m->geom_rbound[g]);
-  }
-  const double* r = d->geom_xmat + 9 * g;  // row-major: world = R * local
-  Eigen::Vector2d out;
-  for (int i = 0; i < 2; ++i) {
-    out[i] = std::abs(r[3 * i]) * local.x() + std::abs(r[3 * i + 1]) * local.y() +
-             std::abs(r[3 * i + 2]) * local.z();
-  }
-  return out;
-}
-
-}  // namespace
 
 WorldScript::WorldScript(const Scene& scene, const mjModel* m) : scene_(scene) {
   for (int g = 0; g < m->ngeom; ++g) {
@@ -83,21 +46,6 @@ void WorldScript::set_visitor_walk(const mjModel* m, double speed_mps) {
     visitor_qpos_[k] = m->jnt_qposadr[j];
     visitor_dof_[k] = m->jnt_dofadr[j];
   }
-  // Its radius: the farthest any of its geoms reaches from its vertical axis, as it stands in
-  // the model (a geom's reach: its centre's distance plus the larger of its half extents
-  // along x and y).
-  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
-  mj_kinematics(m, d.get());
-  const Eigen::Vector2d axis(d->xpos[3 * body], d->xpos[3 * body + 1]);
-  visitor_radius_ = 0;
-  for (int g = 0; g < m->ngeom; ++g) {
-    int b = m->geom_bodyid[g];
-    while (b > 0 && b != body) b = m->body_parentid[b];
-    if (b != body) continue;
-    const Eigen::Vector2d at(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1]);
-    visitor_radius_ = std::max(
-        visitor_radius_, (at - axis).norm() + horizontal_half_extent(m, d.get(), g).maxCoeff());
-  }
   restart_visitor_walk();
   visitor_arc_ = {0.0};
   for (size_t i = 1; i < v.path.size(); ++i) {
@@ -133,7 +81,7 @@ double WorldScript::room_from_robot(const mjModel* m, const mjData* d, const Eig
     const Eigen::Vector2d centre(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1]);
     const Eigen::Vector2d half = horizontal_half_extent(m, d, g);
     const Eigen::Vector2d outside = ((at - centre).cwiseAbs() - half).cwiseMax(0.0);
-    room = std::min(room, outside.norm() - visitor_radius_);
+    room = std::min(room, outside.norm() - scene_.visitor_radius());
   };
   for (int g : robot_geoms_) measure(g);
   for (const Attachment& a : held.list()) {

@@ -59,7 +59,6 @@ class WorldScript {
                          const HeldObjects& held) const;
 
   double visitor_speed_ = 0;
-  double visitor_radius_ = 0;  // m: the farthest its geoms reach from its vertical axis
   double visitor_walked_ = 0;  // m along the path (there and back again)
   double visitor_time_ = 0;    // s: the simulated time it has walked to
   std::vector<int> robot_geoms_;

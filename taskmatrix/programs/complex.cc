@@ -5,7 +5,8 @@
 //   pickup   object, side, step reach, then grasp, with fixate on the object running on the
 //                               head (not the base) throughout
 //   putdown  object, surface    position the held object onto a placement drawn from
-//                               above(object, surface) and near(object, surface), then release
+//                               above(object, surface) and near(object, surface), release,
+//                               then the torso and the free arms to rest
 //   greet    target, side       fixate on the target until it is centred (head and base);
 //                               then, tracking it with the head alone, raise a free arm
 //                               (postural wave_start) and wave (canned wave, while
@@ -137,15 +138,23 @@ MachineSpec pickup() {
 MachineSpec putdown() {
   MachineSpec m;
   m.name = "putdown";
-  m.doc = "place a held object resting on a surface and let go of it";
+  m.doc = "place a held object resting on a surface, let go of it and bring the arms to rest";
   m.params = {text_param("object", "the held object"),
               text_param("surface", "surface to put it on", "work_surface")};
+  // Let go, the arms come to rest (and a bent torso upright): a hand left round what it set
+  // down would sweep into the furniture as the base turns or steps, and hide the object from
+  // the head camera. An arm whose hand still holds something stays as it is; arms that find
+  // no way to rest stay where they are (the object is placed all the same).
+  const core::RawParams stow = {
+      {"posture", "rest"}, {"chains", "[torso, left_arm, right_arm]"}, {"skip_busy", "true"}};
   m.states = {
       state("place", "position",
             {{"object", "$object"}, {"frame", "origin"}, {"on", "$surface"}, {"height", "0.01"}}),
-      state("release", "release", {{"object", "$object"}}), final_state("placed", true)};
+      state("release", "release", {{"object", "$object"}}), state("stow", "postural", stow),
+      final_state("placed", true)};
   m.initial = "place";
-  m.transitions = {on_completed("place", "release"), on_completed("release", "placed")};
+  m.transitions = {on_completed("place", "release"), on_completed("release", "stow"),
+                   on_completed("stow", "placed"), on_failed("stow", "placed")};
   return m;
 }
 

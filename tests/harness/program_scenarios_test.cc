@@ -353,6 +353,37 @@ std::string run_task_trial(const std::string& task, const std::string& robot,
   return run_in_root(root, task, trial_id);
 }
 
+// The trial `trial_id` of the tidy task with each putdown written out as its position and
+// release, without the withdrawal and rest that end a putdown: the robot greets with the hand
+// that set the juice box down still round it, out over the side surface, as putdown left it
+// until 2026-12-05. The situations greet's recovery is for (the base cannot turn, the arms
+// cannot come down) arise here; a putdown now avoids most of them.
+std::string unstowed_tidy_trial(const std::string& robot, const std::string& environment,
+                                const std::string& trial_id) {
+  test::ScratchRoot root;
+  std::ifstream in(std::filesystem::path(TASKMATRIX_TEST_ROOT) / "scenarios" / "tasks" /
+                   "tidy.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text = std::regex_replace(text, std::regex("\n(robots|environments): [^\n]*"), "");
+  for (const std::string object : {"cup", "box"}) {
+    const std::string place = "place_" + object, let_go = "let_go_" + object;
+    const std::string putdown = "    " + place + ": {program: putdown, params: {object: " + object +
+                                ", surface: $surface}}\n";
+    const size_t at = text.find(putdown);
+    EXPECT_NE(at, std::string::npos) << putdown;
+    if (at == std::string::npos) return "";
+    text.replace(at, putdown.size(),
+                 "    " + place + ": {program: position, params: {object: " + object +
+                     ", frame: origin, on: $surface, height: 0.01}}\n    " + let_go +
+                     ": {program: release, params: {object: " + object + "}}\n");
+    text = std::regex_replace(text, std::regex("\\{from: " + place + ", on: completed, to: "),
+                              "{from: " + place + ", on: completed, to: " + let_go +
+                                  "}\n    - {from: " + let_go + ", on: completed, to: ");
+  }
+  root.write("tidy.yaml", text + "robots: [" + robot + "]\nenvironments: [" + environment + "]\n");
+  return run_in_root(root, "tidy.yaml", trial_id);
+}
+
 // The trial succeeded, and `program` ran in it (the case the test describes).
 void expect_success_running(const std::string& trials, const std::string& program) {
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
@@ -481,29 +512,34 @@ time_limit_s: 30
 // counter), and fixate waited until the scenario's time limit; the arms' rest was in collision
 // with the torso still bent. Now fixate fails after 2 s of refused turns, greet steps back from
 // the counter and finds the visitor again, and lowering, refused, steps back and brings the
-// torso upright with the arms (kitchen, layout 207).
+// torso upright with the arms (kitchen, layout 207). Since putdown brings the arms to rest,
+// the task's own trials rarely meet this: the case is built with the putdowns written out as
+// position and release (office, layout 218).
 TEST(GreetAfterAPutdown, StepsBackWhenTheBaseCannotTurnOrTheArmsCannotComeDown) {
   if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
   const std::string trials =
-      run_task_trial("tidy.yaml", "atlas", "kitchen", "tidy.atlas.kitchen.RRTConnect.l207.s8");
+      unstowed_tidy_trial("atlas", "office", "tidy.atlas.office.RRTConnect.l218.s19");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   EXPECT_NE(trials.find("the base cannot turn towards 'visitor'"), std::string::npos)
       << "not the case described: " << trials.substr(0, 2000);
+  EXPECT_NE(trials.find("\"program\":\"postural\",\"reason\":"), std::string::npos)
+      << "not the case described (the arms' rest refused): " << trials.substr(0, 2000);
   EXPECT_NE(trials.find("\"program\":\"retreat\""), std::string::npos);
 }
 
 // Stepping straight back from the counter, atlas's right hand, still round the juice box it
 // had set down, was blocked, and every plan ran out of iterations (office, layout 202). Now
 // a hand close to something withdraws first, and where the straight step is still taken the
-// step goes in a direction turned from it.
+// step goes in a direction turned from it. (The putdowns written out as position and release,
+// as putdown was then.)
 TEST(GreetAfterAPutdown, AHandRoundWhatItSetDownWithdrawsBeforeTheRobotStepsBack) {
   if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
   const std::string trials =
-      run_task_trial("tidy.yaml", "atlas", "office", "tidy.atlas.office.RRTConnect.l202.s3");
+      unstowed_tidy_trial("atlas", "office", "tidy.atlas.office.RRTConnect.l202.s3");
   expect_success_running(trials, "retreat");
 }
 
@@ -523,9 +559,10 @@ TEST(TidyTheTable, TheJuiceBoxGoesBesideTheCupNotIntoIt) {
 // After stepping back, minibot's arm still lay out over the counter where it had set the juice
 // box down, and each base turn towards the visitor swept it into the counter: not centred
 // after 20 s (kitchen, layout 201). greet now brings the arms down before finding again.
+// (The putdowns written out as position and release, as putdown was then.)
 TEST(GreetAfterAPutdown, TheArmsComeDownBeforeTheBaseTurnsToTheVisitorAgain) {
   const std::string trials =
-      run_task_trial("tidy.yaml", "minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l201.s2");
+      unstowed_tidy_trial("minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l201.s2");
   expect_success_running(trials, "retreat");
 }
 
@@ -534,10 +571,11 @@ TEST(GreetAfterAPutdown, TheArmsComeDownBeforeTheBaseTurnsToTheVisitorAgain) {
 // raises the arm and waves once more. (Since putdown's placements keep clear of other objects
 // the box goes elsewhere in that world and the visitor stays in view. Since placed objects
 // start 0.1 mm above their surface, office 200 no longer has the visitor leave the view;
-// kitchen 218, a world beyond the task's eight, does.)
+// kitchen 218, a world beyond the task's eight, did; since putdown brings the arms to rest,
+// kitchen 209 with the putdowns written out as position and release does.)
 TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
   const std::string trials =
-      run_task_trial("tidy.yaml", "minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l218.s11");
+      unstowed_tidy_trial("minibot", "kitchen", "tidy.minibot.kitchen.RRTConnect.l209.s10");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   const std::regex halted("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"halted\"");
   const std::regex completed("\"program\":\"canned\",\"t\":[-0-9.e+]+,\"type\":\"completed\"");
@@ -553,12 +591,13 @@ TEST(GreetAfterAPutdown, FindsAVisitorWhoWalkedOutOfViewAndWavesAgain) {
 // the base could not turn to the visitor, nor after one step back from the counter (`the base
 // cannot turn towards 'visitor' without touching something (107 degrees still to turn)`,
 // kitchen 202). greet steps back once more, from whatever is nearest then, and looks again.
+// (The putdowns written out as position and release, as putdown was then.)
 TEST(GreetAfterAPutdown, StepsBackOnceMoreWhenOneStepLeavesItWedged) {
   if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
   const std::string trials =
-      run_task_trial("tidy.yaml", "atlas", "kitchen", "tidy.atlas.kitchen.RRTConnect.l202.s3");
+      unstowed_tidy_trial("atlas", "kitchen", "tidy.atlas.kitchen.RRTConnect.l202.s3");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
   auto count = [&](const std::string& program, const std::string& type) {
     const std::regex re("\"program\":\"" + program +
@@ -619,6 +658,18 @@ success: all_of(above(cup, side_surface), near(cup, side_surface))
         << "not the case described (no wave): " << line.substr(0, 2000);
   }
   EXPECT_EQ(lines, 2u) << trials.substr(0, 2000);
+}
+
+// The cup stood beyond the middle of the table, and minibot's reach planned the base round the
+// table and on, 2 m out, into the route the visitor walks (the visitor was at its other end
+// then): a finger met the visitor (`restock > pickup(take_cup) > reach: collision: collision of
+// LFinger2ProxLink with visitor (depth 0.6 mm)`, kitchen 900; atlas's upper arm the same in
+// chores, kitchen 503). Plans, IK and is_valid now keep off the visitor's route.
+TEST(RestockBesideAWalkingVisitor, ThePlansKeepOffTheVisitorsRoute) {
+  const std::string trials = run_task_trial("restock.yaml", "minibot", "kitchen",
+                                            "restock.minibot.kitchen.RRTConnect.l900.s1");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+  EXPECT_EQ(trials.find("with visitor"), std::string::npos) << trials.substr(0, 2000);
 }
 
 // Another: park the juice box on the side surface, vacuum the work surface, then step back
@@ -975,6 +1026,88 @@ TEST(PutdownOnAtlas, AFingerStoppedByTheSurfaceEndsTheRelease) {
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
 }
 
+// putdown let go and left the arm where it was: the open hand round what it had set down, out
+// over the furniture, and a bent torso bent. The next program met it there (a base turn swept
+// the hand into the desk; the hand hid the object from the head camera). The arms now come to
+// rest after the release, the torso upright: the success condition asks for the rest posture
+// of both arms (before: `postural(rest, left_arm, right_arm): joint r_shoulder_pitch is
+// 0.267059 from the posture` on tallbot, `RShoulderPitch is 0.738066` on minibot).
+TEST(PutdownOnEveryRobot, TheArmsEndAtRestAfterTheRelease) {
+  test::ScratchRoot root;
+  root.write("putdown.yaml", R"(setup:
+  - {program: pickup, params: {object: cup}}
+program: putdown
+params: {object: cup, surface: work_surface}
+robots: [tallbot, minibot]
+environments: [kitchen]
+perception: ground_truth
+obstacles: {count: 8}
+layout_seed: 3
+seed: 1
+trials: 1
+time_limit_s: 40
+success: all_of(above(cup, work_surface), not(grasping(cup)), postural(rest, left_arm, right_arm))
+)");
+  const std::string trials = run_in_root(root, "putdown.yaml");
+  size_t lines = 0;
+  std::istringstream in(trials);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty()) continue;
+    ++lines;
+    EXPECT_NE(line.find("\"success\":true"), std::string::npos) << line.substr(0, 2000);
+  }
+  EXPECT_EQ(lines, 2u) << trials.substr(0, 2000);
+}
+
+// A task written as a user writes one: the cup to the side surface, the juice box from there to
+// the desk, then watch the box for 3 s. atlas set the box down at the desk's corner with its
+// hand still round it: every base turn towards the box swept that hand into the desk, and the
+// box never came into view (`swap > fixate(watch): tracking_error: 'box' never in view in 3.0
+// s (at best 0.81 rad off; the base cannot turn towards it without touching something)`,
+// office, layout 1400; 7 of 48 such trials over four robots and three rooms). putdown now
+// brings the arms to rest after letting go.
+TEST(SwapOnAtlas, TheBoxJustSetDownComesIntoView) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
+  }
+  test::ScratchRoot root;
+  root.write("swap.yaml", R"(machine:
+  name: swap
+  initial: take_cup
+  states:
+    take_cup: {program: pickup, params: {object: cup}}
+    place_cup: {program: putdown, params: {object: cup, surface: side_surface}}
+    take_box: {program: pickup, params: {object: box}}
+    place_box: {program: putdown, params: {object: box, surface: work_surface}}
+    watch: {program: fixate, params: {object: box, duration: 3}}
+    done: {final: success}
+  transitions:
+    - {from: take_cup, on: completed, to: place_cup}
+    - {from: place_cup, on: completed, to: take_box}
+    - {from: take_box, on: completed, to: place_box}
+    - {from: place_box, on: completed, to: watch}
+    - {from: watch, on: completed, to: done}
+params: {}
+robots: [atlas]
+environments: [office]
+perception: ground_truth
+obstacles: {count: 8}
+objects:
+  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
+  box: {on: side_surface, yaw: [-3.14159, 3.14159]}
+surfaces:
+  work_surface: {height_m: [0.62, 0.80]}
+robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
+layout_seed: 1400
+seed: 1
+trials: 1
+time_limit_s: 240
+success: all_of(above(cup, side_surface), above(box, work_surface), near(box, work_surface), in_view(box))
+)");
+  const std::string trials = run_in_root(root, "swap.yaml");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
 // Under physics atlas held the vacuum's handle in a firm grip, and the grip's contact forces on
 // the kinematically held vacuum pushed the arm 0.012-0.025 rad off its path, so passing the
 // nozzle 8 mm over the table drove it 5 mm into it (the
@@ -1149,11 +1282,13 @@ TEST(PositionOnAtlas, TheHeldToolIsLiftedOffTheTableWithoutSwingingTheArm) {
 // generalization suite): the base's path, checked every 7.7 cm of joint space, ran a finger of
 // the idle hand 0.7 mm into the counter between two checked states. The planner's path is now
 // certified between its checked states and planned again, with closer checks, where it
-// touches. Kinematic execution: the plan, not physics, decides.
+// touches. Kinematic execution: the plan, not physics, decides. (Since plans keep off the
+// visitor's route that world's paths differ; in layout 103 the first plan's path touches
+// something between its checked states and is planned again.)
 TEST(VacuumOnMinibot, APathThatGrazesTheCounterBetweenChecksIsPlannedAgain) {
   Scenario s = generalization_scenario("vacuum");
   s.execution = "kinematic";
-  const TrialResult r = run_trial(s, *test::loaded_scene("minibot", "kitchen"), 105, 6, registry());
+  const TrialResult r = run_trial(s, *test::loaded_scene("minibot", "kitchen"), 103, 4, registry());
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
   EXPECT_TRUE(std::any_of(r.work.plans.begin(), r.work.plans.end(),
                           [](const core::PlanCallRecord& p) { return p.planner_runs > 1; }))

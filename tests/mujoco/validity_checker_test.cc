@@ -149,6 +149,40 @@ TEST(ValidityChecker, AStartInCollisionIsReportedAsStaticCollision) {
   EXPECT_TRUE(raw_robot_in_collision(*scene, worker.model(), worker.data()));
 }
 
+// The kitchen's visitor walks x = 2.5 from y = -1 to y = 1 and stands at its first point. A
+// plan made while the visitor is at one end must not put the robot where they walk next: with
+// the route kept, the robot may not stand beside any part of it; where it already stands that
+// close, it may stay (a start is never made invalid).
+TEST(ValidityChecker, KeepsTheRobotOffTheVisitorsRouteNotOnlyOffWhereTheVisitorStands) {
+  auto scene = test::scene("minibot", "kitchen");
+  WorkerScene worker(scene);
+  worker.reset_to_start();
+  const ChainIndex& base = scene->chain("base");
+  EXPECT_GT(scene->visitor_radius(), 0.2);  // shoulders and arms round its axis
+  EXPECT_LT(scene->visitor_radius(), 0.4);
+  ValidityChecker plain(*scene, worker.model(), worker.data(), base.joints);
+  ValidityChecker kept(*scene, worker.model(), worker.data(), base.joints);
+  kept.keep_off_visitor_route();
+  // 0.35 m from the route's far end, 1.8 m from the visitor: no contact, but on the route.
+  const std::vector<double> beside = {2.15, 0.8, 0.0};
+  EXPECT_FALSE(plain.in_collision(beside.data()));
+  EXPECT_TRUE(kept.in_collision(beside.data()));
+  EXPECT_NE(kept.visitor_route_hit().find("of the visitor's route"), std::string::npos)
+      << kept.visitor_route_hit();
+  EXPECT_TRUE(kept.within_margin(beside.data(), 0.01));
+  // 1.3 m from it: free. The hit is forgotten after a clear check.
+  const std::vector<double> away = {1.2, 0.8, 0.0};
+  EXPECT_FALSE(kept.in_collision(away.data()));
+  EXPECT_TRUE(kept.visitor_route_hit().empty());
+  // Bound where the robot stands beside the route, it may stay and move along it.
+  for (int i = 0; i < 3; ++i) worker.data()->qpos[base.qpos_adr[i]] = beside[i];
+  ValidityChecker from_beside(*scene, worker.model(), worker.data(), base.joints);
+  from_beside.keep_off_visitor_route();
+  const std::vector<double> along = {2.15, 0.5, 0.3};
+  EXPECT_FALSE(from_beside.in_collision(beside.data()));
+  EXPECT_FALSE(from_beside.in_collision(along.data()));
+}
+
 // The clearances and per-joint reach a planned path is certified with (MotionPlanner): on both
 // robots, moving base, torso and arm, holding the cup in the left hand.
 class ClearanceOnBothRobots : public ::testing::TestWithParam<std::string> {};
