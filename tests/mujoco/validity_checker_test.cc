@@ -163,7 +163,7 @@ TEST(ValidityChecker, KeepsTheRobotOffTheVisitorsRouteNotOnlyOffWhereTheVisitorS
   ValidityChecker plain(*scene, worker.model(), worker.data(), base.joints);
   ValidityChecker kept(*scene, worker.model(), worker.data(), base.joints);
   kept.keep_off_visitor_route();
-  // 0.35 m from the route's far end, 1.8 m from the visitor: no contact, but on the route.
+  // 0.35 m from the route near its far end, 1.8 m from the visitor: no contact, but on it.
   const std::vector<double> beside = {2.15, 0.8, 0.0};
   EXPECT_FALSE(plain.in_collision(beside.data()));
   EXPECT_TRUE(kept.in_collision(beside.data()));
