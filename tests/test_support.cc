@@ -117,20 +117,12 @@ std::optional<std::string> known_mode_difference(const std::string& program,
                                                  const std::string& robot) {
   if (robot != "minibot") return std::nullopt;
   if (program == "position") {
-    return "known difference: minibot's position succeeds under both; the first grasp fails "
-           "under both, and the second reach plans once more under kinematic execution (5 "
-           "plans against 4)";
-  }
-  if (program == "putdown") {
-    return "known difference: minibot's putdown succeeds under both; after the release the "
-           "arms' rest is planned from the hand opened round the cup, in 904 iterations under "
-           "physics and out of its 10,000 under kinematic execution (the rest is then left "
-           "out: the cup is placed all the same)";
+    return "known difference: minibot's position succeeds under both; under kinematic "
+           "execution its first grasp does not hold and it reaches again (5 plans against 3)";
   }
   if (program == "vacuum") {
     return "known difference: minibot's vacuum succeeds under both, but position(clean) runs "
-           "5 times under physics and 6 under kinematic execution, and one physics plan runs "
-           "out of iterations (10 plans against 9)";
+           "4 times under physics and 5 under kinematic execution (11 plans against 10)";
   }
   return std::nullopt;
 }

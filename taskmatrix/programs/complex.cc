@@ -143,18 +143,25 @@ MachineSpec putdown() {
               text_param("surface", "surface to put it on", "work_surface")};
   // Let go, the arms come to rest (and a bent torso upright): a hand left round what it set
   // down would sweep into the furniture as the base turns or steps, and hide the object from
-  // the head camera. An arm whose hand still holds something stays as it is; arms that find
-  // no way to rest stay where they are (the object is placed all the same).
+  // the head camera. An arm whose hand still holds something stays as it is. Where the arms
+  // find no way to rest (the rest posture puts an elbow into the furniture the robot stands
+  // against), the robot steps back from the nearest surface and tries once more; arms that
+  // still find none stay where they are (the object is placed all the same).
   const core::RawParams stow = {
       {"posture", "rest"}, {"chains", "[torso, left_arm, right_arm]"}, {"skip_busy", "true"}};
   m.states = {
       state("place", "position",
             {{"object", "$object"}, {"frame", "origin"}, {"on", "$surface"}, {"height", "0.01"}}),
-      state("release", "release", {{"object", "$object"}}), state("stow", "postural", stow),
+      state("release", "release", {{"object", "$object"}}),
+      state("stow", "postural", stow),
+      state("make_room", "retreat", {{"part", "base"}, {"distance", "0.25"}}),
+      state("stow_again", "postural", stow),
       final_state("placed", true)};
   m.initial = "place";
-  m.transitions = {on_completed("place", "release"), on_completed("release", "stow"),
-                   on_completed("stow", "placed"), on_failed("stow", "placed")};
+  m.transitions = {on_completed("place", "release"),        on_completed("release", "stow"),
+                   on_completed("stow", "placed"),          on_failed("stow", "make_room"),
+                   on_completed("make_room", "stow_again"), on_failed("make_room", "placed"),
+                   on_completed("stow_again", "placed"),    on_failed("stow_again", "placed")};
   return m;
 }
 

@@ -5,7 +5,7 @@
 // and otherwise picks one at random (from the run's seed sequence, so a run is reproducible). With
 // `skip_busy`, chains of the posture that other programs hold, and the arm and hand of a hand
 // holding an object, are left out (greet lowers the waving arm and leaves the arm carrying a
-// cup as it is, its hand closed).
+// cup as it is, its hand closed). Chains already at the posture are left out of the plan.
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
 
@@ -48,7 +48,20 @@ class Postural final : public core::TaskProgram {
       done_ = true;
       return;
     }
-    failure_ = motion_.plan_to_configuration(ctx, goal.chains, goal.values);
+    // Chains already at their posture stay where they are: they are left out of the plan
+    // (every joint planned is a dimension the planner searches).
+    ChainValues moving;
+    size_t at = 0;
+    for (const std::string& c : goal.chains) {
+      const std::vector<double> now = ctx.skills().configuration({c});
+      const std::vector<double> want(goal.values.begin() + at,
+                                     goal.values.begin() + at + now.size());
+      at += now.size();
+      if (max_difference(now, want) <= kAlreadyThere) continue;
+      moving.chains.push_back(c);
+      moving.values.insert(moving.values.end(), want.begin(), want.end());
+    }
+    failure_ = motion_.plan_to_configuration(ctx, moving.chains, moving.values);
   }
 
   core::ProgramState step(core::ProgramContext&) override {

@@ -1026,6 +1026,22 @@ TEST(PutdownOnAtlas, AFingerStoppedByTheSurfaceEndsTheRelease) {
   EXPECT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
 }
 
+// The trials of one scenario written to a scratch root, each of which must succeed.
+void expect_every_trial_succeeds(const std::string& file, const std::string& yaml,
+                                 size_t expected_trials) {
+  test::ScratchRoot root;
+  root.write(file, yaml);
+  const std::string trials = run_in_root(root, file);
+  size_t lines = 0;
+  std::istringstream in(trials);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty()) continue;
+    ++lines;
+    EXPECT_NE(line.find("\"success\":true"), std::string::npos) << line.substr(0, 3000);
+  }
+  EXPECT_EQ(lines, expected_trials) << trials.substr(0, 2000);
+}
+
 // putdown let go and left the arm where it was: the open hand round what it had set down, out
 // over the furniture, and a bent torso bent. The next program met it there (a base turn swept
 // the hand into the desk; the hand hid the object from the head camera). The arms now come to
@@ -1033,8 +1049,7 @@ TEST(PutdownOnAtlas, AFingerStoppedByTheSurfaceEndsTheRelease) {
 // of both arms (before: `postural(rest, left_arm, right_arm): joint r_shoulder_pitch is
 // 0.267059 from the posture` on tallbot, `RShoulderPitch is 0.738066` on minibot).
 TEST(PutdownOnEveryRobot, TheArmsEndAtRestAfterTheRelease) {
-  test::ScratchRoot root;
-  root.write("putdown.yaml", R"(setup:
+  expect_every_trial_succeeds("putdown.yaml", R"(setup:
   - {program: pickup, params: {object: cup}}
 program: putdown
 params: {object: cup, surface: work_surface}
@@ -1047,16 +1062,55 @@ seed: 1
 trials: 1
 time_limit_s: 40
 success: all_of(above(cup, work_surface), not(grasping(cup)), postural(rest, left_arm, right_arm))
-)");
-  const std::string trials = run_in_root(root, "putdown.yaml");
-  size_t lines = 0;
-  std::istringstream in(trials);
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty()) continue;
-    ++lines;
-    EXPECT_NE(line.find("\"success\":true"), std::string::npos) << line.substr(0, 2000);
+)",
+                              2);
+}
+
+// atlas set the vacuum down with its right hand round the handle, over the table; the rest of
+// its torso and both arms found no way there in 10,000 iterations (`planning_timeout`, 3.7 s
+// of the trial's 4.1; kitchen, layout 5, seed 3 of the default suite), and the arm stayed out
+// over the table. The left arm was at rest already: planned all the same, its six joints made
+// the search fifteen-dimensional. postural now plans only the chains not yet at the posture
+// (161 iterations here).
+TEST(VacuumOnAtlas, TheArmComesToRestFromTheHandleItSetDown) {
+  if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
+    GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
-  EXPECT_EQ(lines, 2u) << trials.substr(0, 2000);
+  expect_every_trial_succeeds("vacuum.yaml", R"(program: vacuum
+params: {tool: vacuum, surface: work_surface}
+robots: [atlas]
+environments: [kitchen]
+perception: ground_truth
+obstacles: {count: 8}
+execution: kinematic
+layout_seed: 5
+seed: 3
+trials: 1
+time_limit_s: 90
+success: all_of(not(exists(debris)), not(grasping(vacuum)), above(vacuum, work_surface), postural(rest, left_arm, right_arm))
+)",
+                              1);
+}
+
+// minibot set the vacuum down standing against the desk, where its rest posture puts the
+// right elbow into the desk's top (office, layout 3, seed 1: `invalid_goal: the goal
+// configuration is in collision: RElbowBall touches desk_top (depth 9.8 mm)`), and the arm
+// stayed over the desk. putdown now steps back from the nearest surface and tries once more.
+TEST(VacuumOnMinibot, StepsBackWhereTheRestPutsAnElbowIntoTheDesk) {
+  expect_every_trial_succeeds("vacuum.yaml", R"(program: vacuum
+params: {tool: vacuum, surface: work_surface}
+robots: [minibot]
+environments: [office]
+perception: ground_truth
+obstacles: {count: 8}
+execution: kinematic
+layout_seed: 3
+seed: 1
+trials: 1
+time_limit_s: 90
+success: all_of(not(exists(debris)), not(grasping(vacuum)), above(vacuum, work_surface), postural(rest, left_arm, right_arm))
+)",
+                              1);
 }
 
 // A task written as a user writes one: the cup to the side surface, the juice box from there to
