@@ -6,7 +6,8 @@
 //                               head (not the base) throughout
 //   putdown  object, surface    position the held object onto a placement drawn from
 //                               above(object, surface) and near(object, surface), release,
-//                               then the torso and the free arms to rest
+//                               then the torso and the free arms to rest; where that rest
+//                               fails, a step back from the nearest surface and once more
 //   greet    target, side       fixate on the target until it is centred (head and base);
 //                               then, tracking it with the head alone, raise a free arm
 //                               (postural wave_start) and wave (canned wave, while
@@ -143,10 +144,11 @@ MachineSpec putdown() {
               text_param("surface", "surface to put it on", "work_surface")};
   // Let go, the arms come to rest (and a bent torso upright): a hand left round what it set
   // down would sweep into the furniture as the base turns or steps, and hide the object from
-  // the head camera. An arm whose hand still holds something stays as it is. Where the arms
-  // find no way to rest (the rest posture puts an elbow into the furniture the robot stands
-  // against), the robot steps back from the nearest surface and tries once more; arms that
-  // still find none stay where they are (the object is placed all the same).
+  // the head camera. An arm whose hand still holds something stays as it is. Where the rest
+  // fails (the rest posture puts an elbow into the furniture the robot stands against, or its
+  // plan runs out of iterations), the robot steps back from the nearest surface and tries
+  // once more; arms that still find no way stay where they are (the object is placed all the
+  // same).
   const core::RawParams stow = {
       {"posture", "rest"}, {"chains", "[torso, left_arm, right_arm]"}, {"skip_busy", "true"}};
   m.states = {

@@ -6,6 +6,7 @@
 // `skip_busy`, chains of the posture that other programs hold, and the arm and hand of a hand
 // holding an object, are left out (greet lowers the waving arm and leaves the arm carrying a
 // cup as it is, its hand closed). Chains already at the posture are left out of the plan.
+#include "taskmatrix/core/robot_profile.h"
 #include "taskmatrix/programs/primitives.h"
 #include "taskmatrix/programs/program_support.h"
 
@@ -49,15 +50,24 @@ class Postural final : public core::TaskProgram {
       return;
     }
     // Chains already at their posture stay where they are: they are left out of the plan
-    // (every joint planned is a dimension the planner searches).
+    // (every joint planned is a dimension the planner searches). An arm touching something
+    // stays in it: the plan frees it from the contact (MotionStage) as the torso moves it.
     ChainValues moving;
     size_t at = 0;
     for (const std::string& c : goal.chains) {
       const std::vector<double> now = ctx.skills().configuration({c});
+      if (at + now.size() > goal.values.size()) {
+        failure_ =
+            core::Failure(core::FailureCode::kInvalidInput,
+                          "posture '" + posture_ + "' has too few values for chain '" + c + "'");
+        return;
+      }
       const std::vector<double> want(goal.values.begin() + at,
                                      goal.values.begin() + at + now.size());
       at += now.size();
-      if (max_difference(now, want) <= kAlreadyThere) continue;
+      const bool touching =
+          core::chain_kind(c) == "arm" && !touched_by_arm(ctx, single_side({c})).empty();
+      if (max_difference(now, want) <= kAlreadyThere && !touching) continue;
       moving.chains.push_back(c);
       moving.values.insert(moving.values.end(), want.begin(), want.end());
     }

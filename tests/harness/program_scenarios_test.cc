@@ -1027,8 +1027,9 @@ TEST(PutdownOnAtlas, AFingerStoppedByTheSurfaceEndsTheRelease) {
 }
 
 // The trials of one scenario written to a scratch root, each of which must succeed.
-void expect_every_trial_succeeds(const std::string& file, const std::string& yaml,
-                                 size_t expected_trials) {
+// Returns the trials' lines.
+std::string expect_every_trial_succeeds(const std::string& file, const std::string& yaml,
+                                        size_t expected_trials) {
   test::ScratchRoot root;
   root.write(file, yaml);
   const std::string trials = run_in_root(root, file);
@@ -1040,6 +1041,7 @@ void expect_every_trial_succeeds(const std::string& file, const std::string& yam
     EXPECT_NE(line.find("\"success\":true"), std::string::npos) << line.substr(0, 3000);
   }
   EXPECT_EQ(lines, expected_trials) << trials.substr(0, 2000);
+  return trials;
 }
 
 // putdown let go and left the arm where it was: the open hand round what it had set down, out
@@ -1076,7 +1078,7 @@ TEST(VacuumOnAtlas, TheArmComesToRestFromTheHandleItSetDown) {
   if (!std::filesystem::exists(test::catalog().robot_dir("atlas"))) {
     GTEST_SKIP() << "no atlas in " << test::catalog().root();
   }
-  expect_every_trial_succeeds("vacuum.yaml", R"(program: vacuum
+  const std::string trials = expect_every_trial_succeeds("vacuum.yaml", R"(program: vacuum
 params: {tool: vacuum, surface: work_surface}
 robots: [atlas]
 environments: [kitchen]
@@ -1089,7 +1091,9 @@ trials: 1
 time_limit_s: 90
 success: all_of(not(exists(debris)), not(grasping(vacuum)), above(vacuum, work_surface), postural(rest, left_arm, right_arm))
 )",
-                              1);
+                                                         1);
+  // At rest from where it set the vacuum down, not after putdown's step back.
+  EXPECT_EQ(trials.find("\"program\":\"retreat\""), std::string::npos) << trials.substr(0, 3000);
 }
 
 // minibot set the vacuum down standing against the desk, where its rest posture puts the
@@ -1097,7 +1101,7 @@ success: all_of(not(exists(debris)), not(grasping(vacuum)), above(vacuum, work_s
 // configuration is in collision: RElbowBall touches desk_top (depth 9.8 mm)`), and the arm
 // stayed over the desk. putdown now steps back from the nearest surface and tries once more.
 TEST(VacuumOnMinibot, StepsBackWhereTheRestPutsAnElbowIntoTheDesk) {
-  expect_every_trial_succeeds("vacuum.yaml", R"(program: vacuum
+  const std::string trials = expect_every_trial_succeeds("vacuum.yaml", R"(program: vacuum
 params: {tool: vacuum, surface: work_surface}
 robots: [minibot]
 environments: [office]
@@ -1110,7 +1114,8 @@ trials: 1
 time_limit_s: 90
 success: all_of(not(exists(debris)), not(grasping(vacuum)), above(vacuum, work_surface), postural(rest, left_arm, right_arm))
 )",
-                              1);
+                                                         1);
+  EXPECT_NE(trials.find("\"program\":\"retreat\""), std::string::npos) << trials.substr(0, 3000);
 }
 
 // A task written as a user writes one: the cup to the side surface, the juice box from there to
