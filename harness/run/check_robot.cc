@@ -80,9 +80,16 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
   if (!options.run) return 0;
 
   RunJobOptions run;
-  run.scenario_file = catalog.root() / "scenarios" / "suites" / "default.yaml";
+  // The default suite under the models' root, else the built-in one (a root that holds a
+  // user's models alone): its scenarios run on the models of this root.
+  const std::filesystem::path suite =
+      std::filesystem::path("scenarios") / "suites" / "default.yaml";
+  run.scenario_file = catalog.root() / suite;
   if (!std::filesystem::is_regular_file(run.scenario_file)) {
-    throw core::InputError(run.scenario_file.string(), "",
+    run.scenario_file = ModelCatalog::built_in_root() / suite;
+  }
+  if (!std::filesystem::is_regular_file(run.scenario_file)) {
+    throw core::InputError((catalog.root() / suite).string(), "",
                            "missing: the quick run takes the twelve program scenarios from the "
                            "default suite under the models' root (or pass --no-run)");
   }
@@ -100,7 +107,7 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
   std::ostringstream summary;  // the run's summary.md is in the run directory
   const RunJobResult result = run_job(catalog, registry, run, summary, err);
 
-  const RunPlan plan = load_run_plan(run.scenario_file, catalog, registry);
+  const RunPlan plan = load_run_plan(run.scenario_file, catalog, registry, {true, true});
   std::map<std::string, size_t> order;
   for (size_t i = 0; i < plan.scenarios.size(); ++i) order[plan.scenarios[i].name] = i;
   std::vector<nlohmann::json> trials = read_trials_file(result.dir / "trials.jsonl").trials;

@@ -60,8 +60,10 @@ ModelCatalog::ModelCatalog(std::filesystem::path root) : root_(std::move(root)) 
 
 ModelCatalog ModelCatalog::from_environment() {
   const char* env = std::getenv("TASKMATRIX_ROOT");
-  return ModelCatalog(env && *env ? env : TASKMATRIX_DEFAULT_ROOT);
+  return ModelCatalog(env && *env ? std::filesystem::path(env) : built_in_root());
 }
+
+std::filesystem::path ModelCatalog::built_in_root() { return TASKMATRIX_DEFAULT_ROOT; }
 
 std::vector<std::string> ModelCatalog::robots() const {
   return entries_with(root_ / "models" / "robots", "profile.yaml");

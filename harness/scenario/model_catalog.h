@@ -21,6 +21,8 @@ class ModelCatalog {
  public:
   explicit ModelCatalog(std::filesystem::path root);
   static ModelCatalog from_environment();
+  // The source tree the program was built from (its models/ and scenarios/).
+  static std::filesystem::path built_in_root();
 
   const std::filesystem::path& root() const { return root_; }
   std::vector<std::string> robots() const;        // sorted names

@@ -72,15 +72,16 @@ ProgramCall read_call(const io::YamlNode& node, const core::ProgramRegistry& reg
   return call;
 }
 
-std::vector<std::string> read_names(const io::YamlNode& node, const std::vector<std::string>& known,
+// `known`: the names allowed; null: any safe name (a list something else replaces).
+std::vector<std::string> read_names(const io::YamlNode& node, const std::vector<std::string>* known,
                                     const char* what) {
   std::vector<std::string> names = node.as_strings();
   if (names.empty()) node.fail(std::string("needs at least one ") + what);
   for (const std::string& n : names) {
     if (const std::string bad = unsafe_name_reason(what, n); !bad.empty()) node.fail(bad);
-    if (std::find(known.begin(), known.end(), n) == known.end()) {
+    if (known && std::find(known->begin(), known->end(), n) == known->end()) {
       std::string list;
-      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      for (const std::string& k : *known) list += (list.empty() ? "" : ", ") + k;
       node.fail("unknown " + std::string(what) + " '" + n + "' (known: " + list + ")");
     }
   }
@@ -235,7 +236,7 @@ std::string check_planner(const core::PlannerSpec& spec) {
 }
 
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
-                       core::ProgramRegistry& registry) {
+                       core::ProgramRegistry& registry, ReplacedLists replaced) {
   const io::YamlNode root = io::YamlNode::load_file(file);
   root.expect_keys({"name",
                     "doc",
@@ -293,8 +294,10 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
           read_call(step, registry, step.required("program"), step.optional("params")));
     }
   }
-  s.robots = read_names(root.required("robots"), catalog.robots(), "robot");
-  s.environments = read_names(root.required("environments"), catalog.environments(), "environment");
+  const std::vector<std::string> robots = catalog.robots(), environments = catalog.environments();
+  s.robots = read_names(root.required("robots"), replaced.robots ? nullptr : &robots, "robot");
+  s.environments = read_names(root.required("environments"),
+                              replaced.environments ? nullptr : &environments, "environment");
   if (auto p = root.optional("perception")) {
     s.perception = p->as_string();
     if (s.perception != "ground_truth" && s.perception != "sensor") {
@@ -333,12 +336,12 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
 }
 
 RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& catalog,
-                      core::ProgramRegistry& registry) {
+                      core::ProgramRegistry& registry, ReplacedLists replaced) {
   RunPlan plan;
   plan.file = file;
   const io::YamlNode root = io::YamlNode::load_file(file);
   if (!root.has("suite")) {
-    plan.scenarios.push_back(load_scenario(file, catalog, registry));
+    plan.scenarios.push_back(load_scenario(file, catalog, registry, replaced));
     plan.name = plan.scenarios[0].name;
     plan.doc = plan.scenarios[0].doc;
     return plan;
@@ -362,21 +365,27 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     if (!std::filesystem::is_regular_file(included, ec)) {
       item.fail("no scenario file '" + included.string() + "'");
     }
-    Scenario s = load_scenario(included, catalog, registry);
+    const ReplacedLists by_suite{replaced.robots || root.has("robots"),
+                                 replaced.environments || root.has("environments")};
+    Scenario s = load_scenario(included, catalog, registry, by_suite);
     for (const Scenario& other : plan.scenarios) {
       if (other.name == s.name) item.fail("two scenarios are named '" + s.name + "'");
     }
     plan.scenarios.push_back(std::move(s));
   }
   if (plan.scenarios.empty()) list.fail("needs at least one scenario");
+  const std::vector<std::string> robots = catalog.robots(), environments = catalog.environments();
   for (Scenario& s : plan.scenarios) {
     if (auto n = root.optional("trials")) s.trials = read_trials(*n);
     if (auto n = root.optional("layout_seed")) s.layout_seed = read_layout_seed(*n);
     if (auto n = root.optional("seed")) s.seed = read_seed(*n);
     if (auto n = root.optional("planners")) s.planners = read_planners(*n, file.parent_path());
-    if (auto n = root.optional("robots")) s.robots = read_names(*n, catalog.robots(), "robot");
+    if (auto n = root.optional("robots")) {
+      s.robots = read_names(*n, replaced.robots ? nullptr : &robots, "robot");
+    }
     if (auto n = root.optional("environments")) {
-      s.environments = read_names(*n, catalog.environments(), "environment");
+      s.environments =
+          read_names(*n, replaced.environments ? nullptr : &environments, "environment");
     }
     if (auto n = root.optional("planner_budget")) s.planner_budget = read_planner_budget(*n);
     if (auto n = root.optional("plan_iterations")) s.plan_iterations = read_plan_iterations(*n);

@@ -71,8 +71,15 @@ struct Scenario {
 
 // Reads and checks a scenario. An inline `machine:` is registered in `registry` under its
 // name. Throws core::InputError naming the file, line and key.
+// `replaced`: the lists something else replaces (a suite's keys, a command's overrides),
+// whose names need not be models of the catalog's root (a root with the user's robot alone
+// still runs the built-in program scenarios).
+struct ReplacedLists {
+  bool robots = false;
+  bool environments = false;
+};
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
-                       core::ProgramRegistry& registry);
+                       core::ProgramRegistry& registry, ReplacedLists replaced = {});
 
 // What `taskmatrix run FILE` runs: the scenario in FILE, or the scenarios a suite includes.
 //   suite: default                # marks a suite and names it
@@ -92,8 +99,10 @@ struct RunPlan {
   std::string text;                 // the suite file's bytes (empty for a single scenario)
 };
 
+// `replaced`: lists the caller's overrides will replace (RunOverrides::robots, environments),
+// as for load_scenario; a suite's own lists replace the scenarios' in the same way.
 RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& catalog,
-                      core::ProgramRegistry& registry);
+                      core::ProgramRegistry& registry, ReplacedLists replaced = {});
 
 // The execution modes a scenario's `execution` key and `run --execution` accept:
 // "physics", "kinematic" and "physics_unpruned".

@@ -605,7 +605,8 @@ std::vector<RobotFinding> check_robot_kinematics(const Scene& scene) {
 namespace {
 // The solid surfaces of the heights check: tops from, to and every, in cm.
 constexpr int kHeightsFromCm = 40, kHeightsToCm = 100, kHeightsStepCm = 5;
-// A palm that grasps: its approach axis within 30 degrees of the horizontal, or of down.
+// A palm that grasps: its approach axis within 30 degrees of the horizontal, or of down (and
+// its closing axis within 30 degrees of the horizontal).
 const double kGraspTiltSin = std::sin(M_PI / 6), kGraspDownCos = std::cos(M_PI / 6);
 }  // namespace
 
@@ -689,6 +690,11 @@ std::vector<RobotFinding> check_reach_envelope(
           probe.rotation(hand.palm) * Vec3(hand.approach[0], hand.approach[1], hand.approach[2]);
       const double down = -approach.normalized().z();
       if (!(std::abs(down) <= kGraspTiltSin || down >= kGraspDownCos)) continue;
+      // ... and the fingers closing within 30 degrees of the horizontal, as every grasp of an
+      // upright object but the last resort closes them (programs/grasp_candidates.h).
+      const Vec3 closing =
+          probe.rotation(hand.palm) * Vec3(hand.closing[0], hand.closing[1], hand.closing[2]);
+      if (std::abs(closing.normalized().z()) > kGraspTiltSin) continue;
       int collides = -1;  // unknown
       for (Surface& s : surfaces) {
         if (p.z() < s.top + 0.02 || p.z() > s.top + 0.15 || p.x() - s.front <= s.best) continue;

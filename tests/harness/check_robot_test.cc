@@ -64,6 +64,19 @@ TEST(CheckRobot, BuiltInRobotsPassTheLint) {
   }
 }
 
+// The reach lint counts a palm only as a grasp holds it: approaching within 30 degrees of the
+// horizontal or of down, and closing within 30 degrees of the horizontal (every grasp of an
+// upright object but the last resort closes so). tallbot's fingers close along its forearm: over
+// a 0.55 m table the forearm points down too steeply, and the lint says so, as the
+// generalization suite finds (each of tallbot's 72 cup and box trials on a table below 0.60 m
+// failed, each of its 24 vacuum trials there succeeded: a tool's grip closes across its handle;
+// counted with the approach alone, the lint found 0.22 m at 0.55 m).
+TEST(CheckRobot, SurfaceHeightsCountPalmsThatCloseAsAGraspDoes) {
+  const CommandResult r = run_cli("check-robot tallbot --no-run", TASKMATRIX_TEST_ROOT);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("0.50: nowhere, 0.55: nowhere, 0.60: 0.34"), std::string::npos) << r.out;
+}
+
 // minibot's elbow bends to -2.1 rad, where the biceps already touches the forearm: the lint
 // warns, naming the joint, the limit and the links (a plan may end a hair from that contact
 // and physics then holds it). With the range ending where the links meet (-1.9), it is clean.
@@ -348,6 +361,41 @@ TEST(CheckRobot, ARobotWithParallelJawGrippersPicksUpTheCup) {
                "right_hand: {velocity: 0.1, acceleration: 0.5}");
   ASSERT_EQ(root.read(model).find("Finger"), std::string::npos) << root.read(model);
   expect_clean_lint_and_cup_pickup(root, "jaws");
+}
+
+// A user's own models folder, holding their robot alone (no built-in robot, no scenarios):
+// check-robot's quick run takes the built-in default suite, and a suite of the user's that
+// lists built-in program scenarios runs on that robot, though those scenarios' own `robots:`
+// name robots this root lacks (the suite's list replaces theirs). An unknown name in the
+// suite's own list is still an error naming its file and line.
+TEST(CheckRobot, ARootWithTheUsersRobotAloneRunsTheBuiltInProgramScenarios) {
+  ScratchRoot root;
+  copy_minibot(root, "solo");
+  for (const char* other : {"atlas", "tallbot", "minibot", "minibot_urdf"}) {
+    std::filesystem::remove_all(root.path() / "models" / "robots" / other);
+  }
+  const CommandResult check = run_cli("check-robot solo --env kitchen --jobs 2", root.path());
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  EXPECT_NE(check.out.find(std::string(TASKMATRIX_TEST_ROOT) + "/scenarios/suites/default.yaml"),
+            std::string::npos)
+      << check.out;
+  EXPECT_NE(check.out.find("Programs: 12 of 12 succeeded."), std::string::npos) << check.out;
+
+  const std::string programs = std::string(TASKMATRIX_TEST_ROOT) + "/scenarios/programs/";
+  auto suite = [&](const std::string& robots) {
+    return "suite: mine\nscenarios: [" + programs + "pickup.yaml, " + programs +
+           "putdown.yaml]\nrobots: [" + robots + "]\nenvironments: [kitchen]\ntrials: 2\n";
+  };
+  root.write("mine.yaml", suite("solo"));
+  const CommandResult ok = run_cli("validate " + root.file("mine.yaml").string(), root.path());
+  EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+  EXPECT_NE(ok.out.find("mine.yaml: ok, 4 trials"), std::string::npos) << ok.out << ok.err;
+  root.write("mine.yaml", suite("solo, tallbot"));
+  const CommandResult bad = run_cli("validate " + root.file("mine.yaml").string(), root.path());
+  EXPECT_EQ(bad.exit_code, 2) << bad.out << bad.err;
+  EXPECT_NE(bad.err.find("mine.yaml:3: robots: unknown robot 'tallbot' (known: solo)"),
+            std::string::npos)
+      << bad.err;
 }
 
 TEST(CheckRobot, UnknownNamesAreBadInput) {
