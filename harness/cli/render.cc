@@ -85,7 +85,8 @@ int render(const ModelCatalog& catalog, core::ProgramRegistry& programs, const R
     obstacles.count = o.obstacles;
     layout = loaded->make_trial_layout(obstacles, {}, static_cast<std::uint64_t>(o.seed));
   } else {
-    const Scenario s = load_run_plan(o.scenario, catalog, programs).scenarios.at(0);
+    // The robot and the environment are --robot's and --env's, whatever the scenario lists.
+    const Scenario s = load_run_plan(o.scenario, catalog, programs, {true, true}).scenarios.at(0);
     layout = draw_trial_layout(s, *loaded, static_cast<std::uint64_t>(o.seed),
                                "--seed " + std::to_string(o.seed));
   }

@@ -90,8 +90,9 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
   }
   if (!std::filesystem::is_regular_file(run.scenario_file)) {
     throw core::InputError((catalog.root() / suite).string(), "",
-                           "missing: the quick run takes the twelve program scenarios from the "
-                           "default suite under the models' root (or pass --no-run)");
+                           "missing, and so is " + run.scenario_file.string() +
+                               ": the quick run takes the twelve program scenarios from the "
+                               "default suite (or pass --no-run)");
   }
   run.out = options.out.empty() ? catalog.root() / "results" / "runs" /
                                       ("check-robot-" + options.robot + "-" + environment)
@@ -107,7 +108,8 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
   std::ostringstream summary;  // the run's summary.md is in the run directory
   const RunJobResult result = run_job(catalog, registry, run, summary, err);
 
-  const RunPlan plan = load_run_plan(run.scenario_file, catalog, registry, {true, true});
+  const RunPlan plan =
+      load_run_plan(run.scenario_file, catalog, registry, replaced_by(run.overrides));
   std::map<std::string, size_t> order;
   for (size_t i = 0; i < plan.scenarios.size(); ++i) order[plan.scenarios[i].name] = i;
   std::vector<nlohmann::json> trials = read_trials_file(result.dir / "trials.jsonl").trials;

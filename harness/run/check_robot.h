@@ -3,8 +3,8 @@
 // canned motions, the head camera), lints the profile against the model by forward kinematics
 // (mujoco/robot_check.h: postures, mirror signs, palm axes, fingers, reach envelope against
 // every environment's surfaces), and, when the lint finds no error, runs the twelve program
-// scenarios of scenarios/suites/default.yaml once in one environment through the scenario
-// runner, printing one line per program.
+// scenarios of scenarios/suites/default.yaml (under the models' root, else the built-in one)
+// once in one environment through the scenario runner, printing one line per program.
 //
 // Exit status: 0 no lint error and every program succeeded; 1 a lint error (nothing run);
 // 4 no lint error but a program failed; 2 bad input (unknown names, options); 130 interrupted.

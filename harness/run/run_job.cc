@@ -82,8 +82,7 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
   if (!std::filesystem::is_regular_file(file, ec)) {
     throw core::InputError(file.string(), "", "no such scenario or suite file");
   }
-  p.plan = load_run_plan(file, catalog, registry,
-                         {!overrides.robots.empty(), !overrides.environments.empty()});
+  p.plan = load_run_plan(file, catalog, registry, replaced_by(overrides));
   apply_overrides(p.plan, overrides);
   if (only.empty()) {
     p.matrix = trial_matrix(p.plan);

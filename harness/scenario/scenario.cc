@@ -358,6 +358,8 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
   }
   plan.doc = root.get_string("doc", "");
   const io::YamlNode list = root.required("scenarios");
+  const ReplacedLists by_suite{replaced.robots || root.has("robots"),
+                               replaced.environments || root.has("environments")};
   for (const io::YamlNode& item : list.items()) {
     std::filesystem::path included = item.as_string();
     if (included.is_relative()) included = file.parent_path() / included;
@@ -365,8 +367,6 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     if (!std::filesystem::is_regular_file(included, ec)) {
       item.fail("no scenario file '" + included.string() + "'");
     }
-    const ReplacedLists by_suite{replaced.robots || root.has("robots"),
-                                 replaced.environments || root.has("environments")};
     Scenario s = load_scenario(included, catalog, registry, by_suite);
     for (const Scenario& other : plan.scenarios) {
       if (other.name == s.name) item.fail("two scenarios are named '" + s.name + "'");
@@ -410,6 +410,10 @@ RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& cat
     }
   }
   return plan;
+}
+
+ReplacedLists replaced_by(const RunOverrides& overrides) {
+  return {!overrides.robots.empty(), !overrides.environments.empty()};
 }
 
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides) {

@@ -69,15 +69,18 @@ struct Scenario {
   std::string file_text;        // the file's bytes (for the run's scenario hash)
 };
 
-// Reads and checks a scenario. An inline `machine:` is registered in `registry` under its
-// name. Throws core::InputError naming the file, line and key.
-// `replaced`: the lists something else replaces (a suite's keys, a command's overrides),
-// whose names need not be models of the catalog's root (a root with the user's robot alone
-// still runs the built-in program scenarios).
+// The robots and environments lists something else replaces (a suite's keys, a command's
+// overrides): their names in a scenario need not be models of the catalog's root, so a root
+// with the user's own robot and environments, and no built-in robot, still runs the built-in
+// program scenarios.
 struct ReplacedLists {
   bool robots = false;
   bool environments = false;
 };
+
+// Reads and checks a scenario. An inline `machine:` is registered in `registry` under its
+// name. Throws core::InputError naming the file, line and key. Names in the lists `replaced`
+// marks are checked for form only.
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
                        core::ProgramRegistry& registry, ReplacedLists replaced = {});
 
@@ -122,6 +125,8 @@ struct RunOverrides {
   std::vector<std::string> robots, environments;
 };
 void apply_overrides(RunPlan& plan, const RunOverrides& overrides);
+// The lists `overrides` replace (for load_run_plan).
+ReplacedLists replaced_by(const RunOverrides& overrides);
 
 // Checks a planner name and parameters against the planner registry (built-in planners and
 // plugins loaded so far: harness/scenario/planner_plugins.h). Returns "" or what is wrong.

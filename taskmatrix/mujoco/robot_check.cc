@@ -605,8 +605,8 @@ std::vector<RobotFinding> check_robot_kinematics(const Scene& scene) {
 namespace {
 // The solid surfaces of the heights check: tops from, to and every, in cm.
 constexpr int kHeightsFromCm = 40, kHeightsToCm = 100, kHeightsStepCm = 5;
-// A palm that grasps: its approach axis within 30 degrees of the horizontal, or of down (and
-// its closing axis within 30 degrees of the horizontal).
+// A palm that grasps: its approach axis within 30 degrees of the horizontal, or of down (and,
+// for grasps of upright objects, its closing axis within 30 degrees of the horizontal).
 const double kGraspTiltSin = std::sin(M_PI / 6), kGraspDownCos = std::cos(M_PI / 6);
 }  // namespace
 
@@ -623,9 +623,12 @@ std::vector<RobotFinding> check_reach_envelope(
   // The surfaces, and the robot's front at each surface: the furthest forward of its geoms
   // that no limb moves and that reach below the surface's top (the surface is taken as solid
   // down to the floor, as a counter is; what is higher passes over it).
+  // `best`: how far beyond the front the palm gets with the fingers closing as a grasp of an
+  // upright object closes them; `best_any`: with the approach alone (a tool's grip closes
+  // across its handle, in any direction).
   struct Surface {
     std::string label;
-    double top = 0, front = 0, best = -1e9;
+    double top = 0, front = 0, best = -1e9, best_any = -1e9;
     Vec3 palm = Vec3::Zero();
   };
   std::vector<Surface> surfaces;
@@ -690,14 +693,18 @@ std::vector<RobotFinding> check_reach_envelope(
           probe.rotation(hand.palm) * Vec3(hand.approach[0], hand.approach[1], hand.approach[2]);
       const double down = -approach.normalized().z();
       if (!(std::abs(down) <= kGraspTiltSin || down >= kGraspDownCos)) continue;
-      // ... and the fingers closing within 30 degrees of the horizontal, as every grasp of an
-      // upright object but the last resort closes them (programs/grasp_candidates.h).
+      // With the fingers closing within 30 degrees of the horizontal too, as the top and side
+      // grasps of an upright object close them (all but the vertical closings, ranked last:
+      // taskmatrix/programs/grasp_candidates.h).
       const Vec3 closing =
           probe.rotation(hand.palm) * Vec3(hand.closing[0], hand.closing[1], hand.closing[2]);
-      if (std::abs(closing.normalized().z()) > kGraspTiltSin) continue;
+      const bool level = std::abs(closing.normalized().z()) <= kGraspTiltSin;
       int collides = -1;  // unknown
       for (Surface& s : surfaces) {
-        if (p.z() < s.top + 0.02 || p.z() > s.top + 0.15 || p.x() - s.front <= s.best) continue;
+        if (p.z() < s.top + 0.02 || p.z() > s.top + 0.15) continue;
+        const double beyond = p.x() - s.front;
+        const bool better_any = beyond > s.best_any, better = level && beyond > s.best;
+        if (!better_any && !better) continue;
         if (collides < 0) {
           collides = 0;
           for (const auto& [g1, g2] : probe.contacts()) {
@@ -705,8 +712,11 @@ std::vector<RobotFinding> check_reach_envelope(
           }
         }
         if (collides) break;
-        s.best = p.x() - s.front;
-        s.palm = p;
+        if (better_any) s.best_any = beyond;
+        if (better) {
+          s.best = beyond;
+          s.palm = p;
+        }
       }
     }
   }
@@ -720,20 +730,31 @@ std::vector<RobotFinding> check_reach_envelope(
                (s.best < -1e8 ? std::string("nowhere") : fixed(s.best, 2));
   }
   out.push_back({any ? Level::kOk : Level::kWarning, "surface heights",
-                 "how far (m) the palm, as a grasp holds it, gets beyond the robot's front 2-15 "
+                 "how far (m) the palm, as a grasp of an upright object holds it, gets beyond the "
+                 "robot's front 2-15 "
                  "cm above a solid surface of each top height (m): " +
                      reaches});
   surfaces.resize(named);
   for (const Surface& s : surfaces) {
     const std::string where = s.label + " (top " + fixed(s.top, 3) + " m, the robot's front at x " +
                               fixed(s.front, 2) + " m)";
-    if (s.best < min_reach_m) {
+    auto distance = [](double best) {
+      return best < -1e8 ? std::string("nowhere") : fixed(best, 2) + " m";
+    };
+    if (s.best_any < min_reach_m) {
       out.push_back({Level::kError, "reach envelope",
-                     where + ": the palm gets " +
-                         (s.best < -1e8 ? std::string("nowhere") : fixed(s.best, 2) + " m") +
+                     where + ": the palm gets " + distance(s.best_any) +
                          " beyond the robot's front 2-15 cm above the top (need " +
                          fixed(min_reach_m, 2) +
                          " m: objects stand up to that far in from an edge)"});
+    } else if (s.best < min_reach_m) {
+      out.push_back({Level::kWarning, "reach envelope",
+                     where + ": the palm gets " + distance(s.best_any) +
+                         " beyond the robot's front 2-15 cm above the top, but with its fingers "
+                         "closing within 30 degrees of the horizontal, as grasps of upright "
+                         "objects close them, " +
+                         distance(s.best) + " (need " + fixed(min_reach_m, 2) +
+                         " m): cups and boxes there are out of reach, a tool's grip may not be"});
     } else {
       out.push_back({Level::kOk, "reach envelope",
                      where + ": the palm gets " + fixed(s.best, 2) +

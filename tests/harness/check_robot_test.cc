@@ -75,6 +75,21 @@ TEST(CheckRobot, SurfaceHeightsCountPalmsThatCloseAsAGraspDoes) {
   const CommandResult r = run_cli("check-robot tallbot --no-run", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("0.50: nowhere, 0.55: nowhere, 0.60: 0.34"), std::string::npos) << r.out;
+  // A kitchen table lowered to 0.55 m: a warning naming it (a tool's grip closes across its
+  // handle in any direction, so the programs may still use it), not an error.
+  ScratchRoot root;
+  root.replace("models/environments/kitchen/kitchen.xml",
+               R"(<body name="table" pos="0.65 0 0.65">)",
+               R"(<body name="table" pos="0.65 0 0.55">)");
+  const CommandResult low = run_cli("check-robot tallbot --no-run", root.path());
+  EXPECT_EQ(low.exit_code, 0) << low.out << low.err;
+  EXPECT_NE(low.out.find("| reach envelope | warning | kitchen work_surface (top 0.550 m"),
+            std::string::npos)
+      << low.out;
+  EXPECT_NE(low.out.find("as grasps of upright objects close them, nowhere (need 0.15 m): cups "
+                         "and boxes there are out of reach"),
+            std::string::npos)
+      << low.out;
 }
 
 // minibot's elbow bends to -2.1 rad, where the biceps already touches the forearm: the lint
@@ -363,17 +378,19 @@ TEST(CheckRobot, ARobotWithParallelJawGrippersPicksUpTheCup) {
   expect_clean_lint_and_cup_pickup(root, "jaws");
 }
 
-// A user's own models folder, holding their robot alone (no built-in robot, no scenarios):
-// check-robot's quick run takes the built-in default suite, and a suite of the user's that
-// lists built-in program scenarios runs on that robot, though those scenarios' own `robots:`
-// name robots this root lacks (the suite's list replaces theirs). An unknown name in the
-// suite's own list is still an error naming its file and line.
+// A user's own models folder, holding their robot and one room (no built-in robot, no office,
+// no scenarios): check-robot's quick run takes the built-in default suite, and a suite of the
+// user's that lists built-in program scenarios runs on that robot in that room, though those
+// scenarios' own `robots:` and `environments:` name models this root lacks (the suite's lists
+// replace theirs). An unknown name in the suite's own lists is still an error naming its file
+// and line.
 TEST(CheckRobot, ARootWithTheUsersRobotAloneRunsTheBuiltInProgramScenarios) {
   ScratchRoot root;
   copy_minibot(root, "solo");
   for (const char* other : {"atlas", "tallbot", "minibot", "minibot_urdf"}) {
     std::filesystem::remove_all(root.path() / "models" / "robots" / other);
   }
+  std::filesystem::remove_all(root.path() / "models" / "environments" / "office");
   const CommandResult check = run_cli("check-robot solo --env kitchen --jobs 2", root.path());
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
   EXPECT_NE(check.out.find(std::string(TASKMATRIX_TEST_ROOT) + "/scenarios/suites/default.yaml"),
@@ -382,9 +399,10 @@ TEST(CheckRobot, ARootWithTheUsersRobotAloneRunsTheBuiltInProgramScenarios) {
   EXPECT_NE(check.out.find("Programs: 12 of 12 succeeded."), std::string::npos) << check.out;
 
   const std::string programs = std::string(TASKMATRIX_TEST_ROOT) + "/scenarios/programs/";
-  auto suite = [&](const std::string& robots) {
+  auto suite = [&](const std::string& robots, const std::string& environments = "kitchen") {
     return "suite: mine\nscenarios: [" + programs + "pickup.yaml, " + programs +
-           "putdown.yaml]\nrobots: [" + robots + "]\nenvironments: [kitchen]\ntrials: 2\n";
+           "putdown.yaml]\nrobots: [" + robots + "]\nenvironments: [" + environments +
+           "]\ntrials: 2\n";
   };
   root.write("mine.yaml", suite("solo"));
   const CommandResult ok = run_cli("validate " + root.file("mine.yaml").string(), root.path());
@@ -396,6 +414,13 @@ TEST(CheckRobot, ARootWithTheUsersRobotAloneRunsTheBuiltInProgramScenarios) {
   EXPECT_NE(bad.err.find("mine.yaml:3: robots: unknown robot 'tallbot' (known: solo)"),
             std::string::npos)
       << bad.err;
+  root.write("mine.yaml", suite("solo", "office"));
+  const CommandResult room = run_cli("validate " + root.file("mine.yaml").string(), root.path());
+  EXPECT_EQ(room.exit_code, 2) << room.out << room.err;
+  EXPECT_NE(
+      room.err.find("mine.yaml:4: environments: unknown environment 'office' (known: kitchen)"),
+      std::string::npos)
+      << room.err;
 }
 
 TEST(CheckRobot, UnknownNamesAreBadInput) {
