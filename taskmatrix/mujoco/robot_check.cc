@@ -720,40 +720,39 @@ std::vector<RobotFinding> check_reach_envelope(
       }
     }
   }
+  // A best distance as shown: metres, or "nowhere" where no sample got over the surface.
+  auto shown = [](double best, const char* unit) {
+    return best < -1e8 ? std::string("nowhere") : fixed(best, 2) + unit;
+  };
   // How far beyond the front the palm gets over a surface of each height.
   std::string reaches;
   bool any = false;
   for (size_t k = named; k < surfaces.size(); ++k) {
     const Surface& s = surfaces[k];
     any = any || s.best >= min_reach_m;
-    reaches += (reaches.empty() ? "" : ", ") + fixed(s.top, 2) + ": " +
-               (s.best < -1e8 ? std::string("nowhere") : fixed(s.best, 2));
+    reaches += (reaches.empty() ? "" : ", ") + fixed(s.top, 2) + ": " + shown(s.best, "");
   }
   out.push_back({any ? Level::kOk : Level::kWarning, "surface heights",
                  "how far (m) the palm, as a grasp of an upright object holds it, gets beyond the "
-                 "robot's front 2-15 "
-                 "cm above a solid surface of each top height (m): " +
+                 "robot's front 2-15 cm above a solid surface of each top height (m): " +
                      reaches});
   surfaces.resize(named);
   for (const Surface& s : surfaces) {
     const std::string where = s.label + " (top " + fixed(s.top, 3) + " m, the robot's front at x " +
                               fixed(s.front, 2) + " m)";
-    auto distance = [](double best) {
-      return best < -1e8 ? std::string("nowhere") : fixed(best, 2) + " m";
-    };
     if (s.best_any < min_reach_m) {
       out.push_back({Level::kError, "reach envelope",
-                     where + ": the palm gets " + distance(s.best_any) +
+                     where + ": the palm gets " + shown(s.best_any, " m") +
                          " beyond the robot's front 2-15 cm above the top (need " +
                          fixed(min_reach_m, 2) +
                          " m: objects stand up to that far in from an edge)"});
     } else if (s.best < min_reach_m) {
       out.push_back({Level::kWarning, "reach envelope",
-                     where + ": the palm gets " + distance(s.best_any) +
+                     where + ": the palm gets " + shown(s.best_any, " m") +
                          " beyond the robot's front 2-15 cm above the top, but with its fingers "
                          "closing within 30 degrees of the horizontal, as grasps of upright "
                          "objects close them, " +
-                         distance(s.best) + " (need " + fixed(min_reach_m, 2) +
+                         shown(s.best, " m") + " (need " + fixed(min_reach_m, 2) +
                          " m): cups and boxes there are out of reach, a tool's grip may not be"});
     } else {
       out.push_back({Level::kOk, "reach envelope",
