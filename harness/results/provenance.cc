@@ -289,7 +289,11 @@ nlohmann::json matrix_provenance(const RunPlan& plan, const RunOverrides& overri
           {"overrides",
            {{"trials", overrides.trials > 0 ? nlohmann::json(overrides.trials) : nullptr},
             {"seed", overrides.seed > 0 ? nlohmann::json(overrides.seed) : nullptr},
-            {"planners", overrides.planners}}}};
+            {"planners", overrides.planners},
+            {"execution", overrides.execution.empty() ? nlohmann::json(nullptr)
+                                                      : nlohmann::json(overrides.execution)},
+            {"robots", overrides.robots},
+            {"environments", overrides.environments}}}};
 }
 
 RunOverrides overrides_of(const nlohmann::json& matrix, const std::string& file) {
@@ -299,6 +303,14 @@ RunOverrides overrides_of(const nlohmann::json& matrix, const std::string& file)
     if (!j.at("trials").is_null()) o.trials = j.at("trials").get<int>();
     if (!j.at("seed").is_null()) o.seed = j.at("seed").get<std::uint32_t>();
     o.planners = j.at("planners").get<std::vector<std::string>>();
+    // Recorded since 2026-12-06; a run directory written before has none of them.
+    if (j.contains("execution") && !j.at("execution").is_null()) {
+      o.execution = j.at("execution").get<std::string>();
+    }
+    if (j.contains("robots")) o.robots = j.at("robots").get<std::vector<std::string>>();
+    if (j.contains("environments")) {
+      o.environments = j.at("environments").get<std::vector<std::string>>();
+    }
   } catch (const nlohmann::json::exception& e) {
     throw core::InputError(file, "matrix.overrides", std::string("unreadable: ") + e.what());
   }

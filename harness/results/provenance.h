@@ -56,9 +56,11 @@ nlohmann::json model_files_provenance(const std::vector<LoadedModels>& scenes,
                                       const std::filesystem::path& root);
 
 // What defines a run's trial matrix: {"file": the suite or scenario file's absolute path,
-// "trials": trials of the whole matrix, "overrides": {"trials", "seed", "planners"}} (null
-// or empty where not overridden). load_run_plan(file) + apply_overrides(overrides_of(...))
-// gives the same matrix again.
+// "trials": trials of the whole matrix, "overrides": {"trials", "seed", "planners",
+// "execution", "robots", "environments"}} (null or empty where not overridden; a run written
+// before 2026-12-06 has no "execution", "robots" or "environments": none overridden).
+// load_run_plan(file, ..., replaced_by(o)) + apply_overrides(o), o = overrides_of(...), gives
+// the same matrix again.
 nlohmann::json matrix_provenance(const RunPlan& plan, const RunOverrides& overrides, size_t trials);
 // The overrides of a matrix_provenance() object. Throws core::InputError naming `file`.
 RunOverrides overrides_of(const nlohmann::json& matrix, const std::string& file);

@@ -108,10 +108,10 @@ int run_check_robot(const ModelCatalog& catalog, core::ProgramRegistry& registry
   std::ostringstream summary;  // the run's summary.md is in the run directory
   const RunJobResult result = run_job(catalog, registry, run, summary, err);
 
-  const RunPlan plan =
-      load_run_plan(run.scenario_file, catalog, registry, replaced_by(run.overrides));
+  // In the suite's order (the plan is not loaded again: the registry already holds its
+  // inline machines).
   std::map<std::string, size_t> order;
-  for (size_t i = 0; i < plan.scenarios.size(); ++i) order[plan.scenarios[i].name] = i;
+  for (size_t i = 0; i < result.scenarios.size(); ++i) order[result.scenarios[i]] = i;
   std::vector<nlohmann::json> trials = read_trials_file(result.dir / "trials.jsonl").trials;
   std::stable_sort(trials.begin(), trials.end(), [&](const auto& a, const auto& b) {
     return order[a.value("scenario", "")] < order[b.value("scenario", "")];

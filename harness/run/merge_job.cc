@@ -200,8 +200,9 @@ MergeJobResult run_merge_job(const ModelCatalog& catalog, core::ProgramRegistry&
     throw InputError(suite_file.string(), "",
                      "the suite the shards ran (" + first_file + ": matrix.file) is not there");
   }
-  RunPlan plan = load_run_plan(suite_file, catalog, registry);
-  apply_overrides(plan, overrides_of(matrix_info, first_file));
+  const RunOverrides overrides = overrides_of(matrix_info, first_file);
+  RunPlan plan = load_run_plan(suite_file, catalog, registry, replaced_by(overrides));
+  apply_overrides(plan, overrides);
   const std::string hash = "sha256:" + plan_hash(plan);
   if (first.provenance["scenario_hash"] != hash) {
     throw InputError(suite_file.string(), "",

@@ -253,6 +253,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   const RunPlan& plan = p.plan;
   RunJobResult result;
   result.planned = static_cast<int>(p.matrix.size());
+  for (const Scenario& s : p.plan.scenarios) result.scenarios.push_back(s.name);
 
   const bool write_dir = options.only.empty() || !options.out.empty();
   if (write_dir) {

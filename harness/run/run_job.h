@@ -50,6 +50,7 @@ struct RunJobResult {
   std::filesystem::path dir;  // empty for --only without --out
   int planned = 0, finished = 0, successes = 0, ran = 0;
   bool interrupted = false;
+  std::vector<std::string> scenarios;  // the run plan's scenario names, in its order
 };
 
 // Installs a SIGINT/SIGTERM handler for the duration of the run: the first signal stops

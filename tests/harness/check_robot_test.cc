@@ -423,6 +423,28 @@ TEST(CheckRobot, ARootWithTheUsersRobotAloneRunsTheBuiltInProgramScenarios) {
       << room.err;
 }
 
+// A root whose default suite holds a machine written inline in its scenario: check-robot's
+// quick run runs it and lists it. Before, check-robot loaded the suite a second time to order
+// its table, and the machine, registered by the first load, was refused by the second: `a
+// program named 'nod' already exists`.
+TEST(CheckRobot, TheQuickRunTakesADefaultSuiteWithAnInlineMachine) {
+  ScratchRoot root;
+  std::filesystem::create_directories(root.path() / "scenarios" / "suites");
+  root.write("scenarios/nod.yaml",
+             "machine:\n  name: nod\n  initial: up\n  states:\n"
+             "    up: {program: postural, params: {posture: wave_start}}\n"
+             "    down: {program: postural, params: {posture: rest}}\n"
+             "    done: {final: success}\n"
+             "  transitions:\n    - {from: up, on: completed, to: down}\n"
+             "    - {from: down, on: completed, to: done}\n"
+             "robots: [minibot]\nenvironments: [kitchen]\ntrials: 1\n");
+  root.write("scenarios/suites/default.yaml", "suite: quick\nscenarios: [../nod.yaml]\n");
+  const CommandResult check = run_cli("check-robot minibot --env kitchen --jobs 1", root.path());
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  EXPECT_NE(check.out.find("| nod | success |"), std::string::npos) << check.out;
+  EXPECT_NE(check.out.find("Programs: 1 of 1 succeeded."), std::string::npos) << check.out;
+}
+
 TEST(CheckRobot, UnknownNamesAreBadInput) {
   CommandResult r = run_cli("check-robot nobody --no-run", TASKMATRIX_TEST_ROOT);
   EXPECT_EQ(r.exit_code, 2) << r.err;

@@ -364,6 +364,32 @@ TEST_F(Merge, ShardsOfAnotherSuiteBuildOrMatrixAreRefused) {
   EXPECT_FALSE(fs::exists(*dir_ / "m"));
 }
 
+// A run whose command line replaced the execution mode and the robots (as check-robot does)
+// merges into the run one machine writes with them. Before, provenance.json kept neither, so
+// the merge rebuilt the suite's own matrix: `wave.yaml: its scenario files changed since the
+// shards ran`.
+TEST_F(Merge, ShardsOfARunWithAnotherExecutionModeAndRobotMerge) {
+  RunOverrides overrides;
+  overrides.execution = "kinematic";
+  overrides.robots = {"tallbot"};
+  run_into("kinematic0", {0, 2, "--shard"}, 1, overrides);
+  run_into("kinematic1", {1, 2, "--shard"}, 1, overrides);
+  run_into("kinematic_whole", {0, 1, ""}, 1, overrides);
+  const MergeJobResult r = merge("kinematic_merged", {"kinematic0", "kinematic1"});
+  EXPECT_EQ(r.planned, 2);
+  EXPECT_EQ(r.merged, 2);
+  const auto whole = trials_of("kinematic_whole"), merged = trials_of("kinematic_merged");
+  ASSERT_EQ(merged.size(), 2u);
+  for (const auto& [id, t] : whole) {
+    EXPECT_NE(id.find(".tallbot."), std::string::npos) << id;
+    ASSERT_TRUE(merged.count(id)) << id;
+    EXPECT_EQ(merged.at(id), t) << id;
+  }
+  const nlohmann::json p = read_json(*dir_ / "kinematic_merged" / "provenance.json");
+  EXPECT_EQ(p["matrix"]["overrides"]["execution"], "kinematic") << p["matrix"].dump();
+  EXPECT_EQ(p["matrix"]["overrides"]["robots"], nlohmann::json::array({"tallbot"}));
+}
+
 TEST_F(Merge, TheCommandLineTakesTheShardFromTheFlagOrTheSlurmArrayTask) {
   const std::string wave = (*dir_ / "wave.yaml").string();
   const fs::path root = test::catalog().root();
