@@ -40,6 +40,10 @@ constexpr double kRingMarginRad = 0.1;
 constexpr double kRaiseM = 0.02;
 constexpr double kMaxRaiseShare = 0.5;
 constexpr double kRaisedCost = 30.0;
+// HandGeometry::wraps: the object's near side this far ahead of the palm (the nearer of
+// reach's clearances); each finger segment looked at in this many pieces.
+constexpr double kWrapClearance = 0.01;
+constexpr int kWrapPieces = 8;
 // The parts of an object (core::protruding_shapes), grasped on their own.
 constexpr double kPartCost = 5.0;
 constexpr double kPartObliqueRad = 0.6;
@@ -276,6 +280,41 @@ std::vector<Eigen::Vector3d> HandGeometry::swept_points(const Eigen::Vector3d& c
   return out;
 }
 
+bool HandGeometry::wraps(double width, double length) const {
+  const double r = width / 2;
+  const double back = std::max({0.0, r + kWrapClearance - palm_depth_m, closed_reach_m});
+  const Eigen::Vector3d centre = back * approach;
+  const Eigen::Vector3d across = approach.cross(closing).normalized();
+  // A point of the segment a-b inside the cylinder, if any.
+  auto inside = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    std::optional<Eigen::Vector3d> hit;
+    for (int i = 0; i <= kWrapPieces && !hit; ++i) {
+      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(i) / kWrapPieces) - centre;
+      const double along = p.dot(across);
+      if (std::abs(along) <= length / 2 && (p - along * across).norm() <= r) hit = p;
+    }
+    return hit;
+  };
+  int meeting = 0;
+  bool before = false, after = false;  // met on either side of the middle, along closing
+  bool beyond = false;  // met past the middle, along approach: holding it against the palm
+  for (const std::vector<std::vector<Eigen::Vector3d>>& finger : sweeps) {
+    for (size_t step = 0; step < finger.size(); ++step) {
+      std::optional<Eigen::Vector3d> at;
+      for (size_t i = 0; i + 1 < finger[step].size() && !at; ++i) {
+        at = inside(finger[step][i], finger[step][i + 1]);
+      }
+      if (!at) continue;
+      if (step == 0) return false;  // the open finger is in the object's way
+      ++meeting;
+      (at->dot(closing) < 0 ? before : after) = true;
+      beyond = beyond || at->dot(approach) >= 0;
+      break;
+    }
+  }
+  return meeting >= fingers_needed && before && after && beyond;
+}
+
 GraspCandidate::Placement GraspCandidate::place(const HandGeometry& hand, double clearance) const {
   Eigen::Matrix3d palm, world;
   const Eigen::Vector3d across = approach.cross(closing).normalized();
@@ -367,7 +406,12 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
                  const Eigen::Vector3d& closing, double width, double half_depth,
                  const Eigen::Vector3d& free_axis, double turn, double cost,
                  bool fallback = false) {
-    if (width > hand.aperture_m) return;  // the fingers cannot pass around it
+    // Wider than the fingers' roots spread, the fingers must curl round it (tried only after
+    // every grasp between the roots found no way there).
+    const bool spans = width <= hand.aperture_m;
+    if (!spans && !hand.wraps(width, geometry.width(approach.cross(closing).normalized()))) {
+      return;  // the fingers cannot pass around it
+    }
     GraspCandidate c;
     c.family = family;
     c.id = family + "." + std::to_string(counts[family]++);
@@ -382,7 +426,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       c.free_turn_rad = turn;
     }
     c.score = cost + (width > kLooseFit * hand.aperture_m ? 10.0 : 0.0);
-    c.fallback = fallback;
+    c.fallback = fallback || !spans;
     // A hand coming down whose fingers would reach the support even held back: the last resort.
     if (c.approach.z() < -kDownward && c.place(hand, 0).support_gap_m < 0) c.score += 20.0;
     out.push_back(c);

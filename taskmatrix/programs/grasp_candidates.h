@@ -18,15 +18,16 @@
 //         (a mug's handle) on its own: horizontally from outside towards the object's middle,
 //         straight or 0.6 rad from either side, closing across the part.
 // Each has the width along its closing axis (of the object, or of the part). A candidate the
-// hand cannot span (width over the aperture of its fingers) is left out; the rest are ranked:
+// hand cannot span (width over the aperture of its fingers) is left out unless the fingers wrap
+// it (HandGeometry::wraps), and then it is a `fallback`; the rest are ranked:
 // those that fit loosely before tight ones, then by how directly the hand comes in from where
 // it is (a side approach pointing away from the robot is the easiest), top grasps between the
 // direct and the oblique side approaches, vertical closings last, and after all of them those
-// coming down whose fingers would reach the surface the object stands on. The parts and the
-// raised side grasps are `fallback`: reach tries them in a second round, only when it found no
-// way to any of the others (or there are no others). Ids name the family and index and stay the
-// same while the object and the robot's side of it do, so a grasp that failed can be left out of
-// the next attempt.
+// coming down whose fingers would reach the surface the object stands on. The parts, the
+// raised side grasps and the wrapped ones are `fallback`: reach tries them in a second round,
+// only when it found no way to any of the others (or there are no others). Ids name the family
+// and index and stay the same while the object and the robot's side of it do, so a grasp that
+// failed can be left out of the next attempt.
 #pragma once
 
 #include <cmath>
@@ -45,7 +46,7 @@ struct HandGeometry {
   Eigen::Vector3d approach = Eigen::Vector3d::UnitZ();  // palm frame, from the profile
   Eigen::Vector3d closing = Eigen::Vector3d::UnitX();   // palm frame, from the profile
   // Spread of the fingers' first joints along the closing axis: the widest object the
-  // fingers can close around.
+  // fingers close around with the object between their roots.
   double aperture_m = 0;
   // How far behind the palm frame (against the approach axis) the fingers' first joints sit:
   // about where the palm is. For a finger whose first segment slides (a parallel jaw), where
@@ -65,6 +66,14 @@ struct HandGeometry {
   // The points the fingers pass through while closing on a bar of `radius` round the line
   // through `centre` along `axis` (palm frame): each finger's sweep up to the first step at
   // which it comes within `radius` of the line, where it stops; radius 0: the whole sweep.
+  // Whether the fingers wrap a round section of `width` and `length` (along approach x
+  // closing, centred on the palm frame) placed where a grasp puts it, its near side a
+  // centimetre ahead of the palm: the open fingers (sweeps' first step) keep out of it and,
+  // closing, a majority of them meet it, on both sides of its middle along the closing axis,
+  // and one of them past its middle along the approach (else the fingers push it out of the
+  // hand). How a hand holds an object wider than the spread of its fingers' roots (a human
+  // hand round a mug: the fingers curl round from beside the palm).
+  bool wraps(double width, double length) const;
   std::vector<Eigen::Vector3d> swept_points(const Eigen::Vector3d& centre,
                                             const Eigen::Vector3d& axis, double radius) const;
   // Each finger's fingertip estimate in its last segment's frame (zero for a one-segment

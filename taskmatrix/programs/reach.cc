@@ -4,9 +4,9 @@
 // this hand already failed with (ProgramContext::notes) are left out. Each is tried in turn
 // (IK, then planning), at two clearances of the palm, with the arm, then torso and arm, then by
 // stepping (ArmMotion); the first plan found is executed and its candidate noted for grasp.
-// The fallback candidates (a part of the object on its own, side grasps higher up) get a
-// second round of the same only when the first found no way to any of the others (or first,
-// when there are no others). The
+// The fallback candidates (a part of the object on its own, side grasps higher up, grasps the
+// fingers wrap) get a second round of the same only when the first found no way to any of the
+// others (or first, when there are no others). The
 // hand may turn about the candidate's free axis (round objects, handles) as far as the grasp
 // allows, whatever the arm; after a grasp that did not hold because something else stopped a
 // finger, only as far as the closing fingers stay over the surface under the object. Exits at
@@ -88,7 +88,7 @@ class Reach final : public core::TaskProgram {
           core::FailureCode::kNotGraspable,
           "the " + side_ + " hand (aperture " +
               std::to_string(static_cast<int>(std::lround(geometry.aperture_m * 1000))) +
-              " mm) spans no grasp of '" + object_ + "'");
+              " mm) spans no grasp of '" + object_ + "' and its fingers wrap none");
       return;
     }
     for (const GraspCandidate& c : all) {
@@ -164,7 +164,7 @@ class Reach final : public core::TaskProgram {
       return text.size() > kMaxSecondReason ? text.substr(0, kMaxSecondReason) + "..." : text;
     };
     const std::string second_round =
-        std::to_string(candidates_.size()) + " grasps higher up or of a part";
+        std::to_string(candidates_.size()) + " grasps higher up, wrapping or of a part";
     if (!found_no_way(failure)) {
       failure.detail += " (reaching for " + second_round + ", after the first round's " +
                         cut(first_round_failure_->reason()) + ")";

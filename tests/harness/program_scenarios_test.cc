@@ -801,6 +801,37 @@ TEST(ObjectsNeverSeen, MinibotPicksUpAMugByItsHandle) {
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
 }
 
+// A jar 104 mm across, wider than the spread of tallbot's fingers' roots (80 mm): before,
+// `not_graspable: the left hand (aperture 80 mm) spans no grasp of 'jar'` in each of 4 layouts.
+// Its fingers curl round the jar (HandGeometry::wraps), and it picks it up in each of those 4
+// (this is the first).
+TEST(ObjectsNeverSeen, TallbotWrapsAJarWiderThanItsFingersSpread) {
+  test::ScratchRoot root;
+  root.replace("models/environments/kitchen/kitchen.xml", "    <body name=\"box\"",
+               R"(    <body name="jar" pos="0.5 0.35 0.8">
+      <freejoint name="jar_free"/>
+      <geom name="jar_shell" type="cylinder" size="0.052 0.06" mass="0.3" friction="1 0.01 0.001"/>
+    </body>
+    <body name="box")");
+  root.replace("models/environments/kitchen/environment.yaml", "  box: ",
+               "  jar: {body: jar, kind: graspable}\n  box: ");
+  root.write("pickup.yaml", R"(program: pickup
+params: {object: jar}
+robots: [tallbot]
+environments: [kitchen]
+obstacles: {count: 8}
+objects:
+  jar: {on: work_surface, yaw: [-3.14159, 3.14159]}
+layout_seed: 900
+seed: 1
+trials: 1
+time_limit_s: 60
+success: grasping(jar)
+)");
+  const std::string trials = run_in_root(root, "pickup.yaml");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
 // Over a 0.45 m table tallbot's palm gets nowhere (models/README.md): the first round of grasps
 // finds no way, the second (side grasps 2 cm higher) neither, and the reason says both.
 TEST(ObjectsNeverSeen, AReachWhoseBothRoundsFailSaysWhatEachFound) {
@@ -820,7 +851,7 @@ success: grasping(cup)
   const std::string trials = run_in_root(root, "pickup.yaml");
   EXPECT_TRUE(std::regex_search(
       trials, std::regex("\"failure_reason\":\"pickup > reach: ik_failure: [^\"]* reaches none of "
-                         "[0-9]+ targets[^\"]*; then 16 grasps higher up or of a part: "
+                         "[0-9]+ targets[^\"]*; then 16 grasps higher up, wrapping or of a part: "
                          "ik_failure: [^\"]* reaches none of 32 targets")))
       << trials.substr(0, 3000);
 }

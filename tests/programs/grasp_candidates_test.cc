@@ -300,5 +300,80 @@ TEST(GraspCandidatesOfABall, SideGraspsAlsoGoALittleHigherUpAfterEveryOther) {
   }
 }
 
+// A hand like a person's, drawn in its palm frame (approach +z, closing +x): a thumb whose root
+// sits 3 cm to one side of the palm frame and three fingers whose roots sit 3 cm to the other
+// (an aperture of 60 mm), the roots 4 cm behind the frame; open, the fingers lie flat in the
+// palm's plane, pointing away along the closing axis (the thumb the other way); closing, each
+// joint turns the same angle towards the approach. `segment_m`: each finger's three segments.
+HandGeometry curling_hand(double segment_m) {
+  HandGeometry g;
+  g.side = "right";
+  g.approach = Eigen::Vector3d::UnitZ();
+  g.closing = Eigen::Vector3d::UnitX();
+  g.palm_depth_m = 0.04;
+  g.aperture_m = 0.06;
+  // One finger: its root at x = `root_x` (y across the hand), pointing along `sense` x.
+  auto finger = [&](double root_x, double y, double sense) {
+    std::vector<std::vector<Eigen::Vector3d>> sweep;
+    for (int step = 0; step <= 8; ++step) {
+      const double turn = 0.2 * step;
+      std::vector<Eigen::Vector3d> points = {{root_x, y, -0.04}};
+      for (int joint = 1; joint <= 3; ++joint) {
+        const double angle = joint * turn;  // from the closing axis towards the approach
+        points.push_back(points.back() +
+                         segment_m * Eigen::Vector3d(sense * std::cos(angle), 0, std::sin(angle)));
+      }
+      sweep.push_back(std::move(points));
+    }
+    for (const Eigen::Vector3d& p : sweep.front()) g.finger_points.push_back(p);
+    g.sweeps.push_back(std::move(sweep));
+    ++g.fingers;
+  };
+  finger(-0.03, 0.0, -1.0);  // the thumb
+  for (double y : {-0.02, 0.0, 0.02}) finger(0.03, y, 1.0);
+  g.fingers_needed = g.fingers / 2 + 1;
+  return g;
+}
+
+// A hand whose fingers' roots spread 60 mm round a 76 mm cup (a person's hand and a mug): the
+// fingers curl round it from beside the palm, so the cup is graspable (before: `not_graspable:
+// the right hand (aperture 60 mm) spans no grasp`). Those grasps come after any between the
+// roots, in reach's second round. Short fingers that meet the cup only on its near half would
+// push it out of the hand: no wrap. An open finger across the cup's path: no wrap.
+TEST(GraspCandidatesOfACup, FingersThatCurlRoundItHoldACupWiderThanTheirRoots) {
+  const HandGeometry hand = curling_hand(0.035);
+  EXPECT_TRUE(hand.wraps(0.076, 0.1));
+  EXPECT_TRUE(hand.wraps(0.05, 0.1));
+  EXPECT_FALSE(hand.wraps(0.2, 0.1)) << "wider than the curled fingers";
+  const core::PerceivedObject cup =
+      object_of({shape(core::Shape::Type::kCylinder, {0.5, 0.3, 0.75}, {0.038, 0.05, 0})});
+  const std::vector<GraspCandidate> all = grasp_candidates(cup, hand, {0.0, 0.3, 1.0});
+  ASSERT_FALSE(all.empty());
+  for (const GraspCandidate& c : all) {
+    EXPECT_TRUE(c.fallback) << c.id;
+    // Across the cup, or along its 10 cm height.
+    EXPECT_NEAR(c.width_m, std::abs(c.closing.z()) > 0.5 ? 0.1 : 0.076, 1e-9) << c.id;
+  }
+  // A 50 mm cup fits between the roots: as before, of the grasps closing across it only
+  // those raised higher up are for the second round.
+  const core::PerceivedObject narrow =
+      object_of({shape(core::Shape::Type::kCylinder, {0.5, 0.3, 0.75}, {0.025, 0.05, 0})});
+  int across = 0;
+  for (const GraspCandidate& c : grasp_candidates(narrow, hand, {0.0, 0.3, 1.0})) {
+    if (std::abs(c.closing.z()) > 0.5) continue;
+    EXPECT_EQ(c.fallback, c.centre.z() > 0.75 + 1e-9) << c.id;
+    ++across;
+  }
+  EXPECT_GT(across, 0);
+  // Fingers of three 15 mm segments meet the cup on its near half only.
+  const HandGeometry stubby = curling_hand(0.015);
+  EXPECT_FALSE(stubby.wraps(0.076, 0.1));
+  EXPECT_TRUE(grasp_candidates(cup, stubby, {0.0, 0.3, 1.0}).empty());
+  // The open thumb bent forward into where the cup goes.
+  HandGeometry bent = hand;
+  bent.sweeps.front().front().back() = {0.0, 0.0, 0.02};
+  EXPECT_FALSE(bent.wraps(0.076, 0.1));
+}
+
 }  // namespace
 }  // namespace taskmatrix::programs
