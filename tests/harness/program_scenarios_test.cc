@@ -813,8 +813,8 @@ TEST(ObjectsNeverSeen, TallbotWrapsAJarWiderThanItsFingersSpread) {
       <geom name="jar_shell" type="cylinder" size="0.052 0.06" mass="0.3" friction="1 0.01 0.001"/>
     </body>
     <body name="box")");
-  root.replace("models/environments/kitchen/environment.yaml", "  box: ",
-               "  jar: {body: jar, kind: graspable}\n  box: ");
+  root.replace("models/environments/kitchen/environment.yaml",
+               "  box: ", "  jar: {body: jar, kind: graspable}\n  box: ");
   root.write("pickup.yaml", R"(program: pickup
 params: {object: jar}
 robots: [tallbot]
