@@ -40,8 +40,9 @@ constexpr double kRingMarginRad = 0.1;
 constexpr double kRaiseM = 0.02;
 constexpr double kMaxRaiseShare = 0.5;
 constexpr double kRaisedCost = 30.0;
-// HandGeometry::wraps: the object's near side this far ahead of the palm (the nearer of
-// reach's clearances); each finger segment looked at in this many pieces.
+// A candidate wider than the aperture is kept where the fingers wrap it with the palm this far
+// off its near side (the nearer of reach's clearances); HandGeometry::wraps looks at each
+// finger segment in this many pieces.
 constexpr double kWrapClearance = 0.01;
 constexpr int kWrapPieces = 8;
 // The parts of an object (core::protruding_shapes), grasped on their own.
@@ -280,12 +281,11 @@ std::vector<Eigen::Vector3d> HandGeometry::swept_points(const Eigen::Vector3d& c
   return out;
 }
 
-bool HandGeometry::wraps(double width, double length) const {
+bool HandGeometry::wraps(double width, double length, double ahead) const {
   const double r = width / 2;
-  const double back = std::max({0.0, r + kWrapClearance - palm_depth_m, closed_reach_m});
-  const Eigen::Vector3d centre = back * approach;
+  const Eigen::Vector3d centre = ahead * approach;
   const Eigen::Vector3d across = approach.cross(closing).normalized();
-  // A point of the segment a-b inside the cylinder, if any.
+  // A point of the segment a-b inside the section, if any.
   auto inside = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     std::optional<Eigen::Vector3d> hit;
     for (int i = 0; i <= kWrapPieces && !hit; ++i) {
@@ -313,6 +313,12 @@ bool HandGeometry::wraps(double width, double length) const {
     }
   }
   return meeting >= fingers_needed && before && after && beyond;
+}
+
+bool GraspCandidate::wrapped_at(const HandGeometry& hand, double clearance) const {
+  const double ahead =
+      std::max({0.0, width_m / 2 + clearance - hand.palm_depth_m, hand.closed_reach_m});
+  return wrap_length_m <= 0 || hand.wraps(width_m, wrap_length_m, ahead);
 }
 
 GraspCandidate::Placement GraspCandidate::place(const HandGeometry& hand, double clearance) const {
@@ -402,19 +408,17 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
   };
   const double bottom = geometry.extent(up).first, top = geometry.extent(up).second;
   std::map<std::string, int> counts;
+  // `length`: the grasped section's length along the axis across the hand (approach x
+  // closing), centred on `at`.
   auto add = [&](const std::string& family, Eigen::Vector3d at, const Eigen::Vector3d& approach,
                  const Eigen::Vector3d& closing, double width, double half_depth,
-                 const Eigen::Vector3d& free_axis, double turn, double cost,
-                 bool fallback = false) {
-    // Wider than the fingers' roots spread, the fingers must curl round it (tried only after
-    // every grasp between the roots found no way there).
+                 const Eigen::Vector3d& free_axis, double turn, double cost, bool fallback,
+                 double length) {
+    // Wider than the fingers' roots spread, the fingers must pass round it and close on it
+    // (tried only after every grasp between the roots found no way there).
     const bool spans = width <= hand.aperture_m;
-    if (!spans && !hand.wraps(width, geometry.width(approach.cross(closing).normalized()))) {
-      return;  // the fingers cannot pass around it
-    }
     GraspCandidate c;
     c.family = family;
-    c.id = family + "." + std::to_string(counts[family]++);
     c.centre = at;
     c.approach = approach.normalized();
     c.closing = closing.normalized();
@@ -425,6 +429,13 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       c.free_axis = free_axis.normalized();
       c.free_turn_rad = turn;
     }
+    if (!spans) {
+      c.wrap_length_m = length;
+      if (!c.wrapped_at(hand, kWrapClearance)) return;  // nor wrap it
+    }
+    // Wrapped grasps are numbered on their own: the others' ids stay as they were.
+    const std::string key = spans ? family : family + ".w";
+    c.id = key + (spans ? "." : "") + std::to_string(counts[key]++);
     c.score = cost + (width > kLooseFit * hand.aperture_m ? 10.0 : 0.0);
     c.fallback = fallback || !spans;
     // A hand coming down whose fingers would reach the support even held back: the last resort.
@@ -448,7 +459,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       for (double sign : {1.0, -1.0}) {
         // The hand may turn all round the handle (IK keeps it off the rest of the tool).
         add("grip", g, a, sign * closing, width, handle.half_width(a), axis, M_PI,
-            0.1 * std::abs(phi));
+            0.1 * std::abs(phi), false, 2 * handle.half_width(axis));
       }
     }
     std::stable_sort(out.begin(), out.end(),
@@ -469,7 +480,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       for (double sign : {1.0, -1.0}) {
         const double turn = turn_about_vertical(closing);
         add("top", centre, -up, sign * closing, geometry.width(closing), top - centre.z(), up, turn,
-            0.3);
+            0.3, false, geometry.width(up.cross(closing)));
       }
     }
   }
@@ -493,7 +504,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       const double cost = angle_between(a, toward) / M_PI + (vertical ? 0.6 : 0.0);
       for (double sign : {1.0, -1.0}) {
         add("side", centre, a, sign * closing, geometry.width(closing), geometry.width(a) / 2, up,
-            turn, cost);
+            turn, cost, false, vertical ? geometry.width(up.cross(a)) : top - bottom);
       }
     }
   }
@@ -510,7 +521,7 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       const double cost = kPartCost + angle_between(a, toward) / M_PI + std::abs(yaw);
       for (double sign : {1.0, -1.0}) {
         add("part", part.pose.position, a, sign * closing, 2 * part.half_width(closing),
-            part.half_width(a), up, turn, cost, true);
+            part.half_width(a), up, turn, cost, true, 2 * part.half_width(up));
       }
     }
   }
@@ -524,7 +535,8 @@ std::vector<GraspCandidate> grasp_candidates(const core::PerceivedObject& object
       const double cost = kRaisedCost + angle_between(a, toward) / M_PI;
       for (double sign : {1.0, -1.0}) {
         add("side", centre + kRaiseM * up, a, sign * closing, geometry.width(closing),
-            geometry.width(a) / 2, up, turn, cost, true);
+            geometry.width(a) / 2, up, turn, cost, true,
+            2 * std::min(top - centre.z() - kRaiseM, centre.z() + kRaiseM - bottom));
       }
     }
   }

@@ -18,8 +18,9 @@
 //         (a mug's handle) on its own: horizontally from outside towards the object's middle,
 //         straight or 0.6 rad from either side, closing across the part.
 // Each has the width along its closing axis (of the object, or of the part). A candidate the
-// hand cannot span (width over the aperture of its fingers) is left out unless the fingers wrap
-// it (HandGeometry::wraps), and then it is a `fallback`; the rest are ranked:
+// hand cannot span (width over the aperture of its fingers) is left out unless the fingers
+// close round it all the same (HandGeometry::wraps), and then it is a `fallback`; the rest are
+// ranked:
 // those that fit loosely before tight ones, then by how directly the hand comes in from where
 // it is (a side approach pointing away from the robot is the easiest), top grasps between the
 // direct and the oblique side approaches, vertical closings last, and after all of them those
@@ -63,17 +64,20 @@ struct HandGeometry {
   // the last segment) in the palm frame at each step of the closing from open to `fist`,
   // every finger joint turning at the same speed, as grasp closes them: sweeps[finger][step].
   std::vector<std::vector<std::vector<Eigen::Vector3d>>> sweeps;
+  // Whether the fingers wrap a section of the object `width` wide along the closing axis and
+  // `length` long along the axis across the hand (approach x closing), its middle `ahead` of
+  // the palm frame along the approach, taken as a round bar of that width: the open fingers
+  // (sweeps' first step) keep out of it and, closing, a majority of them meet it, on both
+  // sides of its middle along the closing axis, one of them past its middle along the
+  // approach (else the fingers push it out of the hand). An estimate from the fingers'
+  // points, which leaves out their thickness and a flat side's corners: it only admits a
+  // grasp, and grasp counts the fingers that really touch. How a hand holds an object wider
+  // than the spread of its fingers' roots (a human hand round a mug: the fingers curl round
+  // from beside the palm).
+  bool wraps(double width, double length, double ahead) const;
   // The points the fingers pass through while closing on a bar of `radius` round the line
   // through `centre` along `axis` (palm frame): each finger's sweep up to the first step at
   // which it comes within `radius` of the line, where it stops; radius 0: the whole sweep.
-  // Whether the fingers wrap a round section of `width` and `length` (along approach x
-  // closing, centred on the palm frame) placed where a grasp puts it, its near side a
-  // centimetre ahead of the palm: the open fingers (sweeps' first step) keep out of it and,
-  // closing, a majority of them meet it, on both sides of its middle along the closing axis,
-  // and one of them past its middle along the approach (else the fingers push it out of the
-  // hand). How a hand holds an object wider than the spread of its fingers' roots (a human
-  // hand round a mug: the fingers curl round from beside the palm).
-  bool wraps(double width, double length) const;
   std::vector<Eigen::Vector3d> swept_points(const Eigen::Vector3d& centre,
                                             const Eigen::Vector3d& axis, double radius) const;
   // Each finger's fingertip estimate in its last segment's frame (zero for a one-segment
@@ -105,8 +109,16 @@ struct GraspCandidate {
   double free_turn_rad = 0;
   double score = 0;  // lower is better
   // Tried only after every other candidate of the object found no way there (reach's second
-  // round): the raised side grasps and the parts. Reaching for the others stays as it was.
+  // round): the raised side grasps, the parts and the wrapped grasps. Reaching for the others
+  // stays as it was.
   bool fallback = false;
+  // A grasp wider than the hand's aperture, of a section this long across the hand (along
+  // approach x closing): admitted where the fingers wrap it with the palm a centimetre off it
+  // (wrapped_at; reach also tries it 2.5 cm off, where the estimate finds no wrap though
+  // tallbot's hand holds a 104 mm jar so: the estimate leaves out the fingers' thickness, and
+  // grasp counts the fingers that touch). Zero: the hand spans it. Such
+  // grasps' ids have numbers of their own (`top.w0`), so the others' stay as they were.
+  double wrap_length_m = 0;
 
   // Where the palm frame goes for the palm to stay `clearance` metres off the object's near
   // side (the palm is the hand's palm_depth_m behind its frame) with the grasped section no
@@ -120,6 +132,11 @@ struct GraspCandidate {
     double support_gap_m = INFINITY;
   };
   Placement place(const HandGeometry& hand, double clearance) const;
+  // Whether the hand holds the object with the palm `clearance` off it: always, unless the
+  // grasp needs the fingers to wrap it (wrap_length_m), and then where they wrap a round bar
+  // of its width, its near side `clearance` off the palm (as a grasp pressed against the
+  // palm).
+  bool wrapped_at(const HandGeometry& hand, double clearance) const;
 };
 
 // A tool's handle: the shape nearest its grip frame, the grip point and the handle's axis

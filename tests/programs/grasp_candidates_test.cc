@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "taskmatrix/mujoco/ground_truth_perception.h"
 #include "taskmatrix/mujoco/mujoco_skillset.h"
@@ -338,42 +339,51 @@ HandGeometry curling_hand(double segment_m) {
 // A hand whose fingers' roots spread 60 mm round a 76 mm cup (a person's hand and a mug): the
 // fingers curl round it from beside the palm, so the cup is graspable (before: `not_graspable:
 // the right hand (aperture 60 mm) spans no grasp`). Those grasps come after any between the
-// roots, in reach's second round. Short fingers that meet the cup only on its near half would
-// push it out of the hand: no wrap. An open finger across the cup's path: no wrap.
+// roots, in reach's second round, numbered on their own. Short fingers that meet the cup only
+// on its near half would push it out of the hand: no wrap. An open finger across the cup's
+// path: no wrap. (Closed round the cup from the side, the section's centre sits 8 mm ahead of
+// the palm frame: its near side 1 cm off the palm, 4 cm behind the frame.)
 TEST(GraspCandidatesOfACup, FingersThatCurlRoundItHoldACupWiderThanTheirRoots) {
   const HandGeometry hand = curling_hand(0.035);
-  EXPECT_TRUE(hand.wraps(0.076, 0.1));
-  EXPECT_TRUE(hand.wraps(0.05, 0.1));
-  EXPECT_FALSE(hand.wraps(0.2, 0.1)) << "wider than the curled fingers";
+  EXPECT_TRUE(hand.wraps(0.076, 0.1, 0.008));
+  EXPECT_TRUE(hand.wraps(0.05, 0.1, 0.0));
+  EXPECT_FALSE(hand.wraps(0.2, 0.1, 0.07)) << "wider than the curled fingers";
   const core::PerceivedObject cup =
       object_of({shape(core::Shape::Type::kCylinder, {0.5, 0.3, 0.75}, {0.038, 0.05, 0})});
   const std::vector<GraspCandidate> all = grasp_candidates(cup, hand, {0.0, 0.3, 1.0});
   ASSERT_FALSE(all.empty());
+  int round_the_side = 0;  // closing horizontally round the cup's round section
   for (const GraspCandidate& c : all) {
     EXPECT_TRUE(c.fallback) << c.id;
+    EXPECT_GT(c.wrap_length_m, 0) << c.id;
+    EXPECT_NE(c.id.find(".w"), std::string::npos) << c.id;
+    EXPECT_TRUE(c.wrapped_at(hand, 0.01)) << c.id;
     // Across the cup, or along its 10 cm height.
     EXPECT_NEAR(c.width_m, std::abs(c.closing.z()) > 0.5 ? 0.1 : 0.076, 1e-9) << c.id;
+    round_the_side += c.family == "side" && std::abs(c.closing.z()) < 1e-9;
   }
-  // A 50 mm cup fits between the roots: as before, of the grasps closing across it only
-  // those raised higher up are for the second round.
+  EXPECT_GT(round_the_side, 0);
+  // A 50 mm cup fits between the roots: its grasps keep their ids, and as before only the side
+  // grasps raised higher up are for the second round, with any wrapped ones (along its height).
   const core::PerceivedObject narrow =
       object_of({shape(core::Shape::Type::kCylinder, {0.5, 0.3, 0.75}, {0.025, 0.05, 0})});
-  int across = 0;
+  std::map<std::string, int> spanned;
   for (const GraspCandidate& c : grasp_candidates(narrow, hand, {0.0, 0.3, 1.0})) {
-    if (std::abs(c.closing.z()) > 0.5) continue;
+    if (c.wrap_length_m > 0) {
+      EXPECT_TRUE(c.fallback) << c.id;
+      continue;
+    }
     EXPECT_EQ(c.fallback, c.centre.z() > 0.75 + 1e-9) << c.id;
-    ++across;
+    EXPECT_EQ(c.id, c.family + "." + std::to_string(spanned[c.family]++)) << "numbered in turn";
   }
-  EXPECT_GT(across, 0);
+  EXPECT_GT(spanned["side"], 0);
   // Fingers of three 15 mm segments meet the cup on its near half only.
   const HandGeometry stubby = curling_hand(0.015);
-  EXPECT_FALSE(stubby.wraps(0.076, 0.1));
-  EXPECT_TRUE(grasp_candidates(cup, stubby, {0.0, 0.3, 1.0}).empty());
+  EXPECT_FALSE(stubby.wraps(0.076, 0.1, 0.008));
   // The open thumb bent forward into where the cup goes.
   HandGeometry bent = hand;
   bent.sweeps.front().front().back() = {0.0, 0.0, 0.02};
-  EXPECT_FALSE(bent.wraps(0.076, 0.1));
+  EXPECT_FALSE(bent.wraps(0.076, 0.1, 0.008));
 }
-
 }  // namespace
 }  // namespace taskmatrix::programs
