@@ -152,8 +152,10 @@ class TrialsWriter {
 };
 
 // A directory --resume may continue: its provenance (when there is one) must be an object
-// from the same scenario files.
-void check_resumable(const std::filesystem::path& dir, const std::string& hash) {
+// from the same scenario files, run in the same execution mode (a trial's id does not say it:
+// its trials would pass for this run's).
+void check_resumable(const std::filesystem::path& dir, const std::string& hash,
+                     const std::string& execution) {
   const std::filesystem::path prov = dir / "provenance.json";
   std::error_code ec;
   if (!std::filesystem::exists(prov, ec)) return;
@@ -167,6 +169,23 @@ void check_resumable(const std::filesystem::path& dir, const std::string& hash) 
                            "the run there was made from different scenario files (" +
                                old_hash.get<std::string>() + ", now " + hash +
                                "); choose another --out");
+  }
+  // Recorded since 2026-12-06 (matrix.overrides.execution); older directories are not checked.
+  const nlohmann::json* old_execution = nullptr;
+  if (old.contains("matrix") && old["matrix"].is_object() && old["matrix"].contains("overrides") &&
+      old["matrix"]["overrides"].is_object() && old["matrix"]["overrides"].contains("execution")) {
+    old_execution = &old["matrix"]["overrides"]["execution"];
+  }
+  if (old_execution) {
+    const std::string was = old_execution->is_string() ? old_execution->get<std::string>() : "";
+    if (was != execution) {
+      auto text = [](const std::string& e) {
+        return e.empty() ? std::string("the scenarios' own execution modes") : "--execution " + e;
+      };
+      throw core::InputError(dir.string(), "--resume",
+                             "the run there ran with " + text(was) + ", now " + text(execution) +
+                                 "; choose another --out");
+    }
   }
 }
 
@@ -276,7 +295,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
   // once the directory is locked (another run may have ended in between).
   auto read_resumed = [&] {
     if (!write_dir || !options.resume) return;
-    check_resumable(result.dir, hash);
+    check_resumable(result.dir, hash, options.overrides.execution);
     TrialsFile existing = read_trials_file(trials_file);
     if (existing.torn_tail) {
       std::filesystem::resize_file(trials_file, existing.valid_bytes);
@@ -295,7 +314,7 @@ RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registr
     }
   };
   if (write_dir && options.resume) {
-    check_resumable(result.dir, hash);
+    check_resumable(result.dir, hash, options.overrides.execution);
     read_trials_file(trials_file);  // throws on a bad line; changes nothing
   }
   std::unique_ptr<RunDirectoryLock> lock;

@@ -114,8 +114,10 @@ bool is_execution_mode(const std::string& name);
 // "physics, kinematic or physics_unpruned", for messages and help text.
 std::string execution_modes_text();
 
-// Overrides from the command line (--trials, --seed, --planners); each applies to every
-// scenario. Throws core::InputError naming the option for an unknown planner.
+// Overrides from the command line (--trials, --seed, --planners, --execution; check-robot's
+// robot and environment); each applies to every scenario. Throws core::InputError naming the
+// option for an unknown planner or execution mode. A run's provenance.json records them all
+// (matrix_provenance), so that merge rebuilds the same matrix.
 struct RunOverrides {
   int trials = 0;                     // 0: keep
   std::uint32_t seed = 0;             // 0: keep

@@ -366,8 +366,8 @@ TEST_F(Merge, ShardsOfAnotherSuiteBuildOrMatrixAreRefused) {
 
 // A run whose command line replaced the execution mode and the robots (as check-robot does)
 // merges into the run one machine writes with them. Before, provenance.json kept neither, so
-// the merge rebuilt the suite's own matrix: `wave.yaml: its scenario files changed since the
-// shards ran`.
+// the merge rebuilt the suite's own matrix (both robots) and refused the shards: `matrix.trials:
+// the shards' matrix has 2 trials, but ...`.
 TEST_F(Merge, ShardsOfARunWithAnotherExecutionModeAndRobotMerge) {
   RunOverrides overrides;
   overrides.execution = "kinematic";

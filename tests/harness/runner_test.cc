@@ -316,6 +316,38 @@ TEST_F(Runner, BadInputWritesNothing) {
   EXPECT_NE(v.err.find("unknown planner 'Nope'"), std::string::npos) << v.err;
 }
 
+// A trial's id does not name its execution mode: resuming a kinematic run in physics would have
+// kept the kinematic trials as this run's. Refused, naming both modes; the directory is left
+// as it was.
+TEST_F(Runner, AResumeInAnotherExecutionModeIsRefused) {
+  const auto file = write("modes.yaml",
+                          "program: postural\nparams: {posture: rest}\n"
+                          "robots: [minibot]\nenvironments: [kitchen]\n");
+  RunJobOptions kinematic;
+  kinematic.overrides.execution = "kinematic";
+  run(file, "modes", 1, nullptr, kinematic);
+  auto trials_text = [&] {
+    std::ostringstream text;
+    text << std::ifstream(dir_ / "modes" / "trials.jsonl").rdbuf();
+    return text.str();
+  };
+  const std::string before = trials_text();
+  RunJobOptions physics;
+  physics.resume = true;
+  try {
+    run(file, "modes", 1, nullptr, physics);
+    ADD_FAILURE() << "resumed";
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--resume: the run there ran with --execution "
+                                         "kinematic, now the scenarios' own execution modes"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(trials_text(), before);
+  kinematic.resume = true;
+  EXPECT_EQ(run(file, "modes", 1, nullptr, kinematic).finished, 1);
+}
+
 TEST_F(Runner, ProgressLineOnlyWhenAsked) {
   const auto file = write("one.yaml",
                           "program: postural\nparams: {posture: rest}\n"
