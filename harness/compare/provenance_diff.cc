@@ -81,6 +81,19 @@ ProvenanceDiff diff_provenance(const nlohmann::json& base, const nlohmann::json&
     const std::string a = build_value(base, key), b = build_value(fresh, key);
     if (a != b) d.build.push_back({what, a.empty() ? "-" : a, b.empty() ? "-" : b});
   }
+  // The execution mode of the command line (recorded since 2026-12-06).
+  const auto execution = [](const nlohmann::json& p) -> std::optional<std::string> {
+    if (!p.is_object() || !p.contains("matrix") || !p["matrix"].is_object()) return std::nullopt;
+    const nlohmann::json& m = p["matrix"];
+    if (!m.contains("overrides") || !m["overrides"].is_object() ||
+        !m["overrides"].contains("execution")) {
+      return std::nullopt;
+    }
+    const std::string e = text_of(m["overrides"], "execution");
+    return e.empty() ? "the scenarios' own" : "--execution " + e;
+  };
+  const std::optional<std::string> a = execution(base), b = execution(fresh);
+  if (a && b && *a != *b) d.execution = ProvenanceDiff::Value{"execution mode", *a, *b};
   return d;
 }
 
@@ -102,12 +115,15 @@ nlohmann::json provenance_diff_json(const ProvenanceDiff& d) {
   for (const ProvenanceDiff::Value& v : d.build) {
     build.push_back({{"what", v.what}, {"base", v.base}, {"new", v.fresh}});
   }
+  nlohmann::json execution = nullptr;
+  if (d.execution) execution = {{"base", d.execution->base}, {"new", d.execution->fresh}};
   return {{"models_recorded", {{"base", d.base_has_models}, {"new", d.new_has_models}}},
           {"models_changed", d.models_changed()},
           {"changed_model_files", files(d.changed_models)},
           {"model_files_of_one_run", files(d.other_models)},
           {"changed_scenario_files", files(d.changed_scenarios)},
-          {"build", build}};
+          {"build", build},
+          {"execution", execution}};
 }
 
 std::string provenance_warning(const ProvenanceDiff& d) {
@@ -126,6 +142,10 @@ std::string provenance_warning(const ProvenanceDiff& d) {
       w += "  " + f.path + " (" + f.role + " of " + f.of + "): sha256 " +
            short_hash(f.base_sha256) + " -> " + short_hash(f.new_sha256) + "\n";
     }
+  }
+  if (d.execution) {
+    w += "WARNING: the runs ran in different execution modes (base: " + d.execution->base +
+         ", new: " + d.execution->fresh + "): their trials are paired all the same\n";
   }
   if (!d.changed_scenarios.empty()) {
     w += "WARNING: scenario files changed:";
@@ -155,6 +175,9 @@ ReportTable provenance_diff_table(const ProvenanceDiff& d) {
   }
   for (const ProvenanceDiff::Value& v : d.build) {
     t.rows.push_back({{v.what, "", v.base, v.fresh}, ""});
+  }
+  if (d.execution) {
+    t.rows.push_back({{d.execution->what, "", d.execution->base, d.execution->fresh}, "bad"});
   }
   return t;
 }

@@ -1,9 +1,10 @@
-// What differs between the provenance of two runs (harness/results/provenance.h), for `compare`: the
-// model, profile and environment files whose SHA-256 changed (matched by their path relative to
+// What differs between the provenance of two runs (harness/results/provenance.h), for `compare`:
+// the model, profile and environment files whose SHA-256 changed (matched by their path relative to
 // each run's root), files only one run loaded, scenario files that changed, and the build
 // (commit, local changes, executable, MuJoCo and OMPL versions).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,9 @@ struct ProvenanceDiff {
     std::string what, base, fresh;
   };
   std::vector<Value> build;  // build and library differences
+  // The runs' --execution overrides (matrix.overrides.execution), where they differ and both
+  // recorded one: trials are paired by id, which does not name the execution mode.
+  std::optional<Value> execution;
 
   // What --fail-on-model-change fails on: a changed model file, or models not recorded.
   bool models_changed() const {

@@ -236,6 +236,21 @@ TEST(ProvenanceDiff, NamesTheChangedModelFileAndBuildFields) {
   EXPECT_TRUE(unknown.models_changed());
   EXPECT_NE(provenance_warning(unknown).find("the base recorded"), std::string::npos)
       << provenance_warning(unknown);
+
+  // A kinematic run against a physics run: the same trial ids, paired all the same; said.
+  nlohmann::json kinematic = a, physics = a;
+  kinematic["matrix"] = {{"overrides", {{"execution", "kinematic"}}}};
+  physics["matrix"] = {{"overrides", {{"execution", nullptr}}}};
+  const ProvenanceDiff modes = diff_provenance(physics, kinematic);
+  ASSERT_TRUE(modes.execution.has_value());
+  EXPECT_NE(provenance_warning(modes).find("WARNING: the runs ran in different execution modes "
+                                           "(base: the scenarios' own, new: --execution "
+                                           "kinematic)"),
+            std::string::npos)
+      << provenance_warning(modes);
+  EXPECT_EQ(provenance_diff_json(modes)["execution"]["new"], "--execution kinematic");
+  EXPECT_FALSE(diff_provenance(kinematic, kinematic).execution.has_value());
+  EXPECT_FALSE(diff_provenance(a, kinematic).execution.has_value()) << "a run that recorded none";
 }
 
 }  // namespace
