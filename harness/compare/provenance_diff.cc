@@ -2,6 +2,8 @@
 
 #include <map>
 
+#include "harness/results/provenance.h"
+
 namespace taskmatrix::harness {
 
 namespace {
@@ -81,19 +83,10 @@ ProvenanceDiff diff_provenance(const nlohmann::json& base, const nlohmann::json&
     const std::string a = build_value(base, key), b = build_value(fresh, key);
     if (a != b) d.build.push_back({what, a.empty() ? "-" : a, b.empty() ? "-" : b});
   }
-  // The execution mode of the command line (recorded since 2026-12-06).
-  const auto execution = [](const nlohmann::json& p) -> std::optional<std::string> {
-    if (!p.is_object() || !p.contains("matrix") || !p["matrix"].is_object()) return std::nullopt;
-    const nlohmann::json& m = p["matrix"];
-    if (!m.contains("overrides") || !m["overrides"].is_object() ||
-        !m["overrides"].contains("execution")) {
-      return std::nullopt;
-    }
-    const std::string e = text_of(m["overrides"], "execution");
-    return e.empty() ? "the scenarios' own" : "--execution " + e;
-  };
-  const std::optional<std::string> a = execution(base), b = execution(fresh);
-  if (a && b && *a != *b) d.execution = ProvenanceDiff::Value{"execution mode", *a, *b};
+  const std::optional<std::string> a = recorded_execution(base), b = recorded_execution(fresh);
+  if (a && b && *a != *b) {
+    d.execution = ProvenanceDiff::Value{"execution mode", execution_text(*a), execution_text(*b)};
+  }
   return d;
 }
 

@@ -317,6 +317,22 @@ RunOverrides overrides_of(const nlohmann::json& matrix, const std::string& file)
   return o;
 }
 
+std::optional<std::string> recorded_execution(const nlohmann::json& provenance) {
+  if (!provenance.is_object()) return std::nullopt;
+  const auto matrix = provenance.find("matrix");
+  if (matrix == provenance.end() || !matrix->is_object()) return std::nullopt;
+  const auto overrides = matrix->find("overrides");
+  if (overrides == matrix->end() || !overrides->is_object()) return std::nullopt;
+  const auto execution = overrides->find("execution");
+  if (execution == overrides->end()) return std::nullopt;
+  return execution->is_string() ? execution->get<std::string>() : std::string();
+}
+
+std::string execution_text(const std::string& execution) {
+  return execution.empty() ? std::string("the scenarios' own execution modes")
+                           : "--execution " + execution;
+}
+
 nlohmann::json slurm_provenance() {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [key, variable] :

@@ -1,7 +1,7 @@
 // provenance.json: what produced a run, so that two runs can be compared honestly: the build
 // (the git commit the binary was built from, whether that tree had changes and a hash of
-// them, embedded at build time: harness/results/build_info.h), the checkout the models were read from
-// (TASKMATRIX_ROOT; its commit, or that it is not a git checkout), the SHA-256 of every model,
+// them, embedded at build time: harness/results/build_info.h), the checkout the models were read
+// from (TASKMATRIX_ROOT; its commit, or that it is not a git checkout), the SHA-256 of every model,
 // profile and environment file the run loaded, MuJoCo and OMPL versions, compiler, host (name,
 // CPU model, cores, memory), the SHA-256 of the scenario files, seeds and overrides, the
 // command line, and when it ran; the matrix it ran (the suite file's absolute path, the
@@ -10,6 +10,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,12 @@ nlohmann::json model_files_provenance(const std::vector<LoadedModels>& scenes,
 nlohmann::json matrix_provenance(const RunPlan& plan, const RunOverrides& overrides, size_t trials);
 // The overrides of a matrix_provenance() object. Throws core::InputError naming `file`.
 RunOverrides overrides_of(const nlohmann::json& matrix, const std::string& file);
+// The --execution a run's provenance.json records (matrix.overrides.execution): "" for none,
+// nullopt where it records nothing (not a provenance object, or a run written before
+// 2026-12-06). A trial's id does not name its execution mode, so resume and compare ask this.
+std::optional<std::string> recorded_execution(const nlohmann::json& provenance);
+// "--execution MODE", or "the scenarios' own execution modes" for "".
+std::string execution_text(const std::string& execution);
 // The Slurm job a process runs in: job_id, array_job_id, array_task_id, cluster, partition and
 // nodes, from SLURM_* variables; an empty object outside Slurm.
 nlohmann::json slurm_provenance();

@@ -170,22 +170,12 @@ void check_resumable(const std::filesystem::path& dir, const std::string& hash,
                                old_hash.get<std::string>() + ", now " + hash +
                                "); choose another --out");
   }
-  // Recorded since 2026-12-06 (matrix.overrides.execution); older directories are not checked.
-  const nlohmann::json* old_execution = nullptr;
-  if (old.contains("matrix") && old["matrix"].is_object() && old["matrix"].contains("overrides") &&
-      old["matrix"]["overrides"].is_object() && old["matrix"]["overrides"].contains("execution")) {
-    old_execution = &old["matrix"]["overrides"]["execution"];
-  }
-  if (old_execution) {
-    const std::string was = old_execution->is_string() ? old_execution->get<std::string>() : "";
-    if (was != execution) {
-      auto text = [](const std::string& e) {
-        return e.empty() ? std::string("the scenarios' own execution modes") : "--execution " + e;
-      };
-      throw core::InputError(dir.string(), "--resume",
-                             "the run there ran with " + text(was) + ", now " + text(execution) +
-                                 "; choose another --out");
-    }
+  // Older directories record no execution mode and are not checked.
+  const std::optional<std::string> was = recorded_execution(old);
+  if (was && *was != execution) {
+    throw core::InputError(dir.string(), "--resume",
+                           "the run there ran with " + execution_text(*was) + ", now " +
+                               execution_text(execution) + "; choose another --out");
   }
 }
 

@@ -244,8 +244,8 @@ TEST(ProvenanceDiff, NamesTheChangedModelFileAndBuildFields) {
   const ProvenanceDiff modes = diff_provenance(physics, kinematic);
   ASSERT_TRUE(modes.execution.has_value());
   EXPECT_NE(provenance_warning(modes).find("WARNING: the runs ran in different execution modes "
-                                           "(base: the scenarios' own, new: --execution "
-                                           "kinematic)"),
+                                           "(base: the scenarios' own execution modes, new: "
+                                           "--execution kinematic)"),
             std::string::npos)
       << provenance_warning(modes);
   EXPECT_EQ(provenance_diff_json(modes)["execution"]["new"], "--execution kinematic");
