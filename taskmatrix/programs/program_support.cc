@@ -195,15 +195,14 @@ std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::st
   return touched;
 }
 
-std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
-                                    const std::vector<std::string>& touched, double distance_m,
-                                    bool always) {
+namespace {
+
+// escape_motion with `chains` (the arm, perhaps the torso before it).
+std::optional<Escape> escape_with(core::ProgramContext& ctx, const core::HandSpec* hand,
+                                  const std::vector<std::string>& chains,
+                                  const std::vector<std::string>& held,
+                                  const std::vector<std::string>& touched, double distance_m) {
   core::Skillset& skills = ctx.skills();
-  const core::HandSpec* hand = skills.profile().find_hand(side);
-  if (!hand) return std::nullopt;
-  const std::string arm = arm_of(side);
-  const std::vector<std::string> held = held_by(skills, side);
-  if (touched.empty() && !always) return std::nullopt;
   const core::Pose palm = skills.frame_pose(hand->palm);
   const Eigen::Vector3d approach(hand->approach[0], hand->approach[1], hand->approach[2]);
   const Eigen::Vector3d direction =
@@ -217,7 +216,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   // The lowest corner of what the hand holds (its perceived box), with the palm at `q`: a
   // held object must rise, not pivot about the grip into what it rests on.
   auto lowest_held_point = [&](const std::vector<double>& q) {
-    const core::Pose at = skills.frame_pose_at({arm}, q, hand->palm);
+    const core::Pose at = skills.frame_pose_at(chains, q, hand->palm);
     const Eigen::Quaterniond turn = at.orientation * palm.orientation.conjugate();
     double lowest = INFINITY;
     for (const std::string& o : held) {
@@ -231,7 +230,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
     }
     return lowest;
   };
-  const std::vector<double> from = clamped_configuration(skills, {arm});
+  const std::vector<double> from = clamped_configuration(skills, chains);
   const double lowest_now = lowest_held_point(from);
   std::vector<std::vector<double>> path = {from};
   // Each step moves the palm a few centimetres along `direction`: a solution that turns a joint
@@ -248,7 +247,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
       if (std::abs(q[i] - before[i]) > kEscapeMaxJointStep) return false;
       middle[i] = 0.5 * (q[i] + before[i]);
     }
-    const core::Pose at = skills.frame_pose_at({arm}, middle, hand->palm);
+    const core::Pose at = skills.frame_pose_at(chains, middle, hand->palm);
     return (at.position - 0.5 * (palm_before + palm_target)).norm() <= kEscapeMaxPalmDeviation;
   };
   for (double share : {0.5, 1.0}) {
@@ -264,13 +263,13 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
         r.solutions.clear();
       }
     };
-    core::IkResult r = skills.solve_ik({arm}, hand->palm, target, ik);
+    core::IkResult r = skills.solve_ik(chains, hand->palm, target, ik);
     keep_near(r);
     if (r.solutions.empty()) {
       // An arm that cannot keep the hand's orientation exactly (five joints) keeps it as
       // near as damped least squares from here does, unless that tips what it holds down.
       ik.orientation = false;
-      r = skills.solve_ik({arm}, hand->palm, target, ik);
+      r = skills.solve_ik(chains, hand->palm, target, ik);
       if (!r.solutions.empty() && !held.empty() && std::isfinite(lowest_now) &&
           lowest_held_point(r.solutions.front()) < lowest_now + 0.25 * share * distance_m) {
         r.solutions.clear();
@@ -283,7 +282,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
     palm_before = target.position;
   }
   Escape e;
-  e.chains = {arm};
+  e.chains = chains;
   if (path.size() < 2) {
     // No lift straight from here: to the other posture, planned (the planner may touch what
     // the start touches, near the start only).
@@ -296,7 +295,7 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
     clear.orientation = !held.empty();
     clear.restarts = 10;
     clear.seed = ctx.next_seed();
-    const core::IkResult r = skills.solve_ik({arm}, hand->palm, target, clear);
+    const core::IkResult r = skills.solve_ik(chains, hand->palm, target, clear);
     if (r.solutions.empty()) return std::nullopt;
     core::PlanOptions options = ctx.plan_options();
     options.seed = ctx.next_seed();
@@ -309,6 +308,25 @@ std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string
   e.motion = core::timed(skills.time_parameterize(e.chains, path, 0.5));
   e.options.position_tolerance = 0.01;
   e.options.may_touch = touched;
+  return e;
+}
+
+}  // namespace
+
+std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
+                                    const std::vector<std::string>& touched, double distance_m,
+                                    bool always, bool torso) {
+  core::Skillset& skills = ctx.skills();
+  const core::HandSpec* hand = skills.profile().find_hand(side);
+  if (!hand) return std::nullopt;
+  if (touched.empty() && !always) return std::nullopt;
+  const std::vector<std::string> held = held_by(skills, side);
+  std::optional<Escape> e = escape_with(ctx, hand, {arm_of(side)}, held, touched, distance_m);
+  // An arm that cannot lift it alone (too few joints to keep the hand's orientation, or at the
+  // edge of its reach): torso and arm together.
+  if (!e && torso && skills.profile().find_chain("torso")) {
+    e = escape_with(ctx, hand, {"torso", arm_of(side)}, held, touched, distance_m);
+  }
   return e;
 }
 
@@ -472,13 +490,15 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   reached_ = -1;
   best_miss_m_ = INFINITY;
   stances_left_.clear();
+  lifted_ = false;
   if (targets_.empty()) {
     return core::Failure(core::FailureCode::kInvalidInput, "no target for " + frame_);
   }
   const std::string side = single_side({arm_});
   const bool holding = !held_by(ctx.skills(), side).empty();
   const std::vector<std::string> touched = touched_by_arm(ctx, side);
-  if (std::optional<Escape> escape = escape_motion(ctx, side, touched, holding ? 0.04 : 0.05)) {
+  if (std::optional<Escape> escape =
+          escape_motion(ctx, side, touched, holding ? 0.04 : 0.05, false, torso_)) {
     motion_.allow_touching(touched);
     // Getting free may touch what the motion after it may (reach's object).
     escape->options.may_touch = motion_.execution.may_touch;
@@ -491,8 +511,33 @@ std::optional<core::Failure> ArmMotion::start(core::ProgramContext& ctx, const s
   motion_.allow_touching(touched);
   phase_ = Phase::kReaching;
   std::optional<core::Failure> failure = reach_from_here(ctx);
-  if (!base_ || !failure || !found_no_way(*failure)) return failure;
-  return step_over(ctx, std::move(*failure));
+  if (base_ && failure && found_no_way(*failure)) failure = step_over(ctx, std::move(*failure));
+  if (failure && lift_first(ctx, *failure)) return std::nullopt;
+  return failure;
+}
+
+bool ArmMotion::lift_first(core::ProgramContext& ctx, const core::Failure& failure) {
+  // The planner found no way from here, with the hand (or what it holds) a hair off what it
+  // stood on: it keeps its clearance everywhere but next to the start, and few of its random
+  // motions lift a held object straight up. Once: lifted straight first, then reaching again.
+  if (lifted_ || failure.code == core::FailureCode::kIkFailure || !found_no_way(failure)) {
+    return false;
+  }
+  core::Skillset& skills = ctx.skills();
+  const double clearance = ctx.plan_options().clearance_m;
+  if (skills.clearance({arm_}, skills.configuration({arm_}), clearance) >= clearance) return false;
+  const std::string side = single_side({arm_});
+  const bool holding = !held_by(skills, side).empty();
+  std::optional<Escape> escape = escape_motion(ctx, side, touched_by_arm(ctx, side),
+                                               holding ? 0.04 : 0.05, /*always=*/true, torso_);
+  if (!escape) return false;
+  lifted_ = true;
+  escape->options.may_touch = motion_.execution.may_touch;
+  motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
+  phase_ = Phase::kEscaping;
+  stances_left_.clear();
+  best_miss_m_ = INFINITY;
+  return true;
 }
 
 std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
@@ -724,8 +769,56 @@ std::optional<core::Failure> ArmMotion::go_to_stance(core::ProgramContext& ctx,
     }
   }
   std::optional<core::Failure> moved = motion_.plan_now(ctx, body, solution);
-  if (!moved) reached_ = static_cast<int>(k);
+  if (!moved) {
+    reached_ = static_cast<int>(k);
+    return moved;
+  }
+  if (moved->code == core::FailureCode::kIkFailure || !found_no_way(*moved)) return moved;
+  if (carry_to_stance(ctx, body, k, solution)) return std::nullopt;
   return moved;
+}
+
+bool ArmMotion::carry_to_stance(core::ProgramContext& ctx, const std::vector<std::string>& body,
+                                size_t k, const std::vector<double>& solution) {
+  // The whole body found no way there in one motion (the arm, or what its hand holds, out over
+  // what the base must walk round): torso and arm drawn in first, to a posture clear of
+  // everything both here and at the stance (the torso upright with the arm as it is, the rest
+  // posture, or between the two), the base walked there with them so, and torso and arm
+  // planned from there as after any step.
+  core::Skillset& skills = ctx.skills();
+  const size_t nb = skills.chain("base").joints.size();
+  std::vector<std::string> upper = {arm_};
+  if (torso_) upper.insert(upper.begin(), "torso");
+  std::vector<double> rest;  // in `upper`'s order
+  for (const std::string& c : upper) {
+    const std::vector<double> v = posture_values(skills, "rest", {c}).values;
+    rest.insert(rest.end(), v.begin(), v.end());
+  }
+  std::vector<double> upright = skills.configuration(upper);
+  if (torso_) {
+    const long nt = static_cast<long>(skills.chain("torso").joints.size());
+    std::copy(rest.begin(), rest.begin() + nt, upright.begin());
+  }
+  std::vector<double> at_stance(solution.begin(), solution.begin() + static_cast<long>(nb));
+  int plans = 0;
+  for (const double share : {0.0, 1.0, 0.5, 0.25, 0.75}) {
+    std::vector<double> carried(rest.size());
+    for (size_t i = 0; i < rest.size(); ++i) {
+      carried[i] = upright[i] + share * (rest[i] - upright[i]);
+    }
+    at_stance.resize(nb);
+    at_stance.insert(at_stance.end(), carried.begin(), carried.end());
+    if (!skills.is_valid(upper, carried) || !skills.is_valid(body, at_stance)) continue;
+    if (plans++ == kMaxCarryPlans) break;
+    if (motion_.plan_now(ctx, upper, carried)) continue;
+    phase_ = Phase::kCarrying;
+    stance_target_ = static_cast<int>(k);
+    stance_base_.assign(solution.begin(), solution.begin() + static_cast<long>(nb));
+    stance_rest_.assign(solution.begin() + static_cast<long>(nb), solution.end());
+    stance_body_ = body;
+    return true;
+  }
+  return false;
 }
 
 std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
@@ -738,6 +831,21 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
     if (base_ && failure && found_no_way(*failure)) {
       failure = step_over(ctx, std::move(*failure));
     }
+    if (failure) return Ended(std::move(failure));
+    return std::nullopt;
+  }
+  if (phase_ == Phase::kCarrying && !*result) {
+    // Drawn in: the base walks to the stance.
+    phase_ = Phase::kStepping;
+    std::optional<core::Failure> moved = motion_.plan_now(ctx, {"base"}, stance_base_);
+    if (!moved) return std::nullopt;
+    phase_ = Phase::kReaching;
+    if (!found_no_way(*moved) || static_cast<int>(stances_left_.size()) >= kMaxFailedStances) {
+      return Ended(std::move(moved));
+    }
+    // No way there: another stance, as when reaching from one failed.
+    stances_left_.push_back(stance_base_);
+    std::optional<core::Failure> failure = step_over(ctx, std::move(*moved));
     if (failure) return Ended(std::move(failure));
     return std::nullopt;
   }

@@ -81,10 +81,10 @@ std::optional<double> heading_within_limits(const core::ChainInfo& base, double 
 // A short straight motion that takes an arm's hand, or what it holds, off what it touches,
 // so that a plan can start free: a held object is lifted along the vertical (off the surface
 // it rests on), a bare hand withdraws against its approach axis. Computed by IK of the arm
-// alone from where it is, keeping the hand's orientation; an arm that cannot may turn the
-// hand only if the lowest corner of what it holds still rises (a quarter of the lift at
-// least), never tipping it down about the grip. Followed slowly, allowed to touch only what it
-// touched.
+// (or of torso and arm, escape_motion's `torso`) from where it is, keeping the hand's
+// orientation; an arm that cannot may turn the hand only if the lowest corner of what it holds
+// still rises (a quarter of the lift at least), never tipping it down about the grip. Followed
+// slowly, allowed to touch only what it touched.
 struct Escape {
   std::vector<std::string> chains;
   core::TimedMotion motion;
@@ -97,10 +97,11 @@ std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::st
 // touched_by_arm's answer now), or always with `always`; nullopt when nothing is touched or
 // the arm cannot move that way. `distance_m`: how far. A straight lift in two steps, each a
 // short joint motion; where IK reaches the lifted hand only in another posture of the arm, a
-// planned motion to a collision-free one.
+// planned motion to a collision-free one. With `torso` (the caller holds the torso, if the
+// robot has one), where the arm alone finds no such motion, torso and arm together.
 std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
                                     const std::vector<std::string>& touched, double distance_m,
-                                    bool always = false);
+                                    bool always = false, bool torso = false);
 
 // How a motion ended: nullopt when it completed, else its failure.
 using Ended = std::optional<core::Failure>;
@@ -206,7 +207,7 @@ class ArmMotion {
   int target_index() const { return reached_; }
 
  private:
-  enum class Phase { kEscaping, kStepping, kReaching };
+  enum class Phase { kEscaping, kCarrying, kStepping, kReaching };
   std::optional<core::Failure> reach_from_here(core::ProgramContext& ctx);
   // `failure`: why reaching from here failed. Stances near one in stances_left_ are not tried.
   std::optional<core::Failure> step_over(core::ProgramContext& ctx, core::Failure failure);
@@ -222,6 +223,15 @@ class ArmMotion {
   std::optional<core::Failure> go_to_stance(core::ProgramContext& ctx,
                                             const std::vector<std::string>& body, size_t k,
                                             const std::vector<double>& solution);
+  // After reaching from here found no way (a plan failed): when the hand or what it holds is
+  // within the planner's clearance of something, starts lifting it straight off (once per
+  // start), after which reaching is tried again; false if it does not.
+  bool lift_first(core::ProgramContext& ctx, const core::Failure& failure);
+  // When the whole body found no way to the solution in one motion: starts drawing torso and
+  // arm in to a posture clear both here and at the stance, from which the base walks there
+  // (kCarrying, then kStepping); false if no such posture could be planned to.
+  bool carry_to_stance(core::ProgramContext& ctx, const std::vector<std::string>& body, size_t k,
+                       const std::vector<double>& solution);
   // IK of `chains` for target k (with `options`, else the program's), keeping solutions
   // within its free turn.
   std::vector<std::vector<double>> solve(core::ProgramContext& ctx,
@@ -236,6 +246,8 @@ class ArmMotion {
   static constexpr double kLooseBaseWeight = 0.1;
   // Stances found that the planner could not get to before the search gives up.
   static constexpr int kMaxUnplannedStances = 3;
+  // Plans tried to draw torso and arm in before carrying them to a stance (carry_to_stance).
+  static constexpr int kMaxCarryPlans = 2;
   // Stances stepped to from which the arm's plan then failed, before the failure is the
   // program's; and how near another stance must be to one of them to count as the same.
   static constexpr int kMaxFailedStances = 2;
@@ -258,7 +270,9 @@ class ArmMotion {
   // While stepping: the target the stance is for, and the rest of the body's values there.
   int stance_target_ = -1;
   std::vector<double> stance_rest_;
+  std::vector<double> stance_base_;       // while carrying: the base pose to walk to
   std::vector<std::string> stance_body_;  // base, torso (if used) and arm
+  bool lifted_ = false;                   // lift_first has lifted the hand
   // Base poses of the stances stepped to from which reaching failed.
   std::vector<std::vector<double>> stances_left_;
   // The best IK miss over the targets, for the failure message.
