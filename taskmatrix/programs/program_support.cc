@@ -794,7 +794,8 @@ bool ArmMotion::carry_to_stance(core::ProgramContext& ctx, const std::vector<std
     const std::vector<double> v = posture_values(skills, "rest", {c}).values;
     rest.insert(rest.end(), v.begin(), v.end());
   }
-  std::vector<double> upright = skills.configuration(upper);
+  const std::vector<double> now = skills.configuration(upper);
+  std::vector<double> upright = now;
   if (torso_) {
     const long nt = static_cast<long>(skills.chain("torso").joints.size());
     std::copy(rest.begin(), rest.begin() + nt, upright.begin());
@@ -808,6 +809,12 @@ bool ArmMotion::carry_to_stance(core::ProgramContext& ctx, const std::vector<std
     }
     at_stance.resize(nb);
     at_stance.insert(at_stance.end(), carried.begin(), carried.end());
+    // As it is now: the base alone was tried (go_to_stance).
+    double from_now = 0;
+    for (size_t i = 0; i < now.size(); ++i) {
+      from_now = std::max(from_now, std::abs(carried[i] - now[i]));
+    }
+    if (from_now < kSameCarryRad) continue;
     if (!skills.is_valid(upper, carried) || !skills.is_valid(body, at_stance)) continue;
     if (plans++ == kMaxCarryPlans) break;
     if (motion_.plan_now(ctx, upper, carried)) continue;

@@ -248,6 +248,8 @@ class ArmMotion {
   static constexpr int kMaxUnplannedStances = 3;
   // Plans tried to draw torso and arm in before carrying them to a stance (carry_to_stance).
   static constexpr int kMaxCarryPlans = 2;
+  // A carrying posture this close (max-norm, rad or m) to the current one is that one.
+  static constexpr double kSameCarryRad = 0.01;
   // Stances stepped to from which the arm's plan then failed, before the failure is the
   // program's; and how near another stance must be to one of them to count as the same.
   static constexpr int kMaxFailedStances = 2;
