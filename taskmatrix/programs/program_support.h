@@ -191,9 +191,12 @@ bool found_no_way(const core::Failure& failure);
 // reaches, the base alone is planned there and driven (locomotion through the planar base
 // joints), and torso and arm are planned from the new stance; where they cannot reach or be
 // planned from there, the robot steps again, to a stance away from those that failed (at most
-// kMaxFailedStances of them). The frame may be a held object's (a tool's tip): every stage
-// moves the hand holding it. An arm that starts against something escapes first
-// (escape_motion).
+// kMaxFailedStances of them). Where the whole body finds no way to a stance in one motion,
+// torso and arm are drawn in first and the base walks there with them so (carry_to_stance);
+// where every plan from the start failed with the hand a hair off something, the hand is
+// lifted straight off once and reaching starts again (lift_first). The frame may be a held
+// object's (a tool's tip): every stage moves the hand holding it. An arm that starts against
+// something escapes first (escape_motion).
 class ArmMotion {
  public:
   // nullopt when moving, else why it is not.
