@@ -1450,12 +1450,13 @@ TEST(PositionOnMinibot, AToolAHairOffTheTableIsLiftedWhenNoPlanLeavesIt) {
 TEST(PositionOnMinibot, TheTorsoStraightensBeforeTheBaseCarriesTheToolRoundTheDesk) {
   Scenario s = generalization_scenario("position");
   std::vector<double> start, end;
-  const TrialResult r =
-      run_trial(s, *test::loaded_scene("minibot", "office"), 114, 15, registry(),
-                [&](const std::string& moment, const core::TrialWorld& world) {
-                  if (moment == "setup") start = world.skills().configuration({"base"});
-                  if (moment == "end") end = world.skills().configuration({"base"});
-                });
+  const TrialResult r = run_trial(s, *test::loaded_scene("minibot", "office"), 114, 15, registry(),
+                                  [&](const std::string& moment, const core::TrialWorld& world) {
+                                    if (moment == "setup")
+                                      start = world.skills().configuration({"base"});
+                                    if (moment == "end")
+                                      end = world.skills().configuration({"base"});
+                                  });
   ASSERT_TRUE(r.success) << trial_status(r) << ": " << trial_failure_reason(r);
   EXPECT_TRUE(a_plan_ran_out(r)) << "no plan ran out of iterations: the case is not the one "
                                     "described";
