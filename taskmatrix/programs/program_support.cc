@@ -608,6 +608,24 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
       }
     }
   }
+  // Neither pass found a solution: the nearest stances again, base held, with many more IK
+  // starts (where the few starts above converged only into collision, or were dropped by the
+  // target's checks, other starts may converge elsewhere).
+  held.restarts = kRefineRestarts;
+  std::fill(held.joint_weights.begin(), held.joint_weights.begin() + static_cast<long>(nb), 0.0);
+  int refined = 0;
+  for (const std::vector<double>& stance : stances) {
+    if (left_before(stance)) continue;
+    if (++refined > kMaxRefinedStances) break;
+    ++tried;
+    std::copy(stance.begin(), stance.end(), held.start.begin());
+    for (size_t k = 0; k < targets_.size(); ++k) {
+      const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why, &held);
+      if (solutions.empty()) continue;
+      if (go(k, solutions.front(), ended)) return ended;
+      break;  // the next stance
+    }
+  }
   if (last_plan_failure) return last_plan_failure;
   failure.detail += "; stepping: no stance found (" + why + "; " + std::to_string(tried) +
                     " searches from " + std::to_string(stances.size()) + " stances)";

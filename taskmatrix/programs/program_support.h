@@ -247,6 +247,10 @@ class ArmMotion {
   // The second pass: stances searched with the base free, and its IK weight there.
   static constexpr int kMaxLooseStances = 24;
   static constexpr double kLooseBaseWeight = 0.1;
+  // The third pass, when the first two found nothing: the nearest stances again, base held,
+  // with this many IK restarts per target.
+  static constexpr int kMaxRefinedStances = 8;
+  static constexpr int kRefineRestarts = 16;
   // Stances found that the planner could not get to before the search gives up.
   static constexpr int kMaxUnplannedStances = 3;
   // Plans tried to draw torso and arm in before carrying them to a stance (carry_to_stance).
