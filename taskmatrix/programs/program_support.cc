@@ -545,7 +545,8 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
   // A stance from which the arm reaches: first IK over the whole body from here; then a search
   // that places the base first (stance_candidates) and solves the torso and arm with the base
   // held there, each solution collision-checked with the body as it would stand; then IK over
-  // the whole body again, started from the first of those base poses.
+  // the whole body again, started from the first of those base poses; then the nearest base
+  // poses again with more IK starts.
   core::Skillset& skills = ctx.skills();
   std::vector<std::string> body{"base"};
   if (torso_) body.push_back("torso");
@@ -582,21 +583,31 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
   // free (weight kLooseBaseWeight: its steps are shorter than the other joints', but IK's
   // restarts draw it like any joint, its heading anywhere and its position within the hand's
   // distance from the target plus 0.5 m): whole-body IK started from those poses, which finds
-  // stances between the candidates.
+  // stances between the candidates; when neither pass found a solution (none, not one the
+  // planner failed to get to), the nearest stances again, base held, with many more IK starts
+  // (where the few starts above converged only into collision, or were dropped by the
+  // target's checks, other starts may converge elsewhere).
+  struct Pass {
+    double base_weight;
+    int stances, restarts;
+    bool only_if_none_found;
+  };
   const size_t nb = skills.chain("base").joints.size();
   core::IkOptions held = ik_;
   held.start = skills.configuration(body);
   held.joint_weights.assign(held.start.size(), 1.0);
-  held.restarts = kStanceRestarts;
   int tried = 0;
-  for (const double base_weight : {0.0, kLooseBaseWeight}) {
+  for (const Pass& pass : {Pass{0.0, kMaxStances, kStanceRestarts, false},
+                           Pass{kLooseBaseWeight, kMaxLooseStances, kStanceRestarts, false},
+                           Pass{0.0, kMaxRefinedStances, kRefineRestarts, true}}) {
+    if (pass.only_if_none_found && last_plan_failure) break;
     std::fill(held.joint_weights.begin(), held.joint_weights.begin() + static_cast<long>(nb),
-              base_weight);
-    const int limit = base_weight > 0 ? kMaxLooseStances : kMaxStances;
+              pass.base_weight);
+    held.restarts = pass.restarts;
     int here = 0;
     for (const std::vector<double>& stance : stances) {
       if (left_before(stance)) continue;
-      if (++here > limit) break;
+      if (++here > pass.stances) break;
       ++tried;
       std::copy(stance.begin(), stance.end(), held.start.begin());
       for (size_t k = 0; k < targets_.size(); ++k) {
@@ -606,24 +617,6 @@ std::optional<core::Failure> ArmMotion::step_over(core::ProgramContext& ctx,
         if (go(k, solutions.front(), ended)) return ended;
         break;  // the next stance
       }
-    }
-  }
-  // Neither pass found a solution: the nearest stances again, base held, with many more IK
-  // starts (where the few starts above converged only into collision, or were dropped by the
-  // target's checks, other starts may converge elsewhere).
-  held.restarts = kRefineRestarts;
-  std::fill(held.joint_weights.begin(), held.joint_weights.begin() + static_cast<long>(nb), 0.0);
-  int refined = 0;
-  for (const std::vector<double>& stance : stances) {
-    if (left_before(stance)) continue;
-    if (++refined > kMaxRefinedStances) break;
-    ++tried;
-    std::copy(stance.begin(), stance.end(), held.start.begin());
-    for (size_t k = 0; k < targets_.size(); ++k) {
-      const std::vector<std::vector<double>> solutions = solve(ctx, body, k, why, &held);
-      if (solutions.empty()) continue;
-      if (go(k, solutions.front(), ended)) return ended;
-      break;  // the next stance
     }
   }
   if (last_plan_failure) return last_plan_failure;
@@ -827,7 +820,7 @@ bool ArmMotion::carry_to_stance(core::ProgramContext& ctx, const std::vector<std
     }
     at_stance.resize(nb);
     at_stance.insert(at_stance.end(), carried.begin(), carried.end());
-    // As it is now: the base alone was tried (go_to_stance).
+    // As it is now: the base alone was tried with it, or it collides at the stance.
     double from_now = 0;
     for (size_t i = 0; i < now.size(); ++i) {
       from_now = std::max(from_now, std::abs(carried[i] - now[i]));
@@ -859,7 +852,8 @@ std::optional<Ended> ArmMotion::step(core::ProgramContext& ctx) {
     if (failure) return Ended(std::move(failure));
     return std::nullopt;
   }
-  if (phase_ == Phase::kCarrying && !*result) {
+  if (phase_ == Phase::kCarrying && *result) phase_ = Phase::kReaching;
+  if (phase_ == Phase::kCarrying) {
     // Drawn in: the base walks to the stance.
     phase_ = Phase::kStepping;
     std::optional<core::Failure> moved = motion_.plan_now(ctx, {"base"}, stance_base_);

@@ -1470,7 +1470,7 @@ bool a_plan_ran_out(const TrialResult& r) {
 // to the start, and few of its random motions lift a lying tool straight up. Where every plan
 // from such a start fails, the hand now lifts what it holds straight off first, then plans
 // again.
-TEST(PositionOnMinibot, AToolAHairOffTheTableIsLiftedWhenNoPlanLeavesIt) {
+TEST(PositionOnMinibot, AToolAHairOffTheTableIsPlacedThoughEveryPlanFromBesideItRanOut) {
   const TrialResult r = expect_success("position", "minibot", "kitchen", 114, 15);
   EXPECT_TRUE(a_plan_ran_out(r)) << "no plan ran out of iterations: the case is not the one "
                                     "described";
@@ -1481,7 +1481,7 @@ TEST(PositionOnMinibot, AToolAHairOffTheTableIsLiftedWhenNoPlanLeavesIt) {
 // iterations for each stance found. The torso now straightens first, the arm as it is (or
 // the arm comes to rest), where that posture is clear both here and at the stance; the base
 // walks there with it, and torso and arm are planned from there.
-TEST(PositionOnMinibot, TheTorsoStraightensBeforeTheBaseCarriesTheToolRoundTheDesk) {
+TEST(PositionOnMinibot, TheToolReachesTheFarSideOfTheDeskThoughEveryWholeBodyPlanRanOut) {
   Scenario s = generalization_scenario("position");
   std::vector<double> start, end;
   const TrialResult r = run_trial(s, *test::loaded_scene("minibot", "office"), 114, 15, registry(),

@@ -1,9 +1,8 @@
 #!/usr/bin/env python3
-"""valbot: NASA Valkyrie (R5) for the Task Matrix harness, from the public URDF
-val_description/model/robots/valkyrie_sim.urdf (gkjohnson/nasa-urdf-robots, a copy of NASA JSC's
-val_description). Joint origins, axes and limits are the URDF's; collision shapes are primitives
-sized after the robot (the URDF's are meshes). Legs are fixed straight geometry; planar base.
-Writes valbot.xml next to this file. Plain Python (no numpy)."""
+"""valbot: a humanoid with NASA Valkyrie (R5)'s published kinematics, for the Task Matrix
+harness's tests (a robot the programs were not written for). Joint origins, axes and limits are
+written below as numbers; collision shapes are primitives sized after the robot. Legs are fixed
+straight geometry; planar base. Writes valbot.xml next to this file. Plain Python (no numpy)."""
 import math, os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -198,8 +197,8 @@ def model():
     w('</body>', 2)
 
 HEADER = '''<mujoco model="valbot">
-  <!-- valbot: NASA Valkyrie (R5) after the public URDF valkyrie_sim.urdf (val_description;
-       see generate.py, which writes this file). Planar base (x, y, yaw), fixed straight legs,
+  <!-- valbot: a humanoid with NASA Valkyrie (R5)'s published kinematics (generate.py, which
+       writes this file, holds the numbers). Planar base (x, y, yaw), fixed straight legs,
        3-DOF waist (torsoYaw, torsoPitch, torsoRoll), 3-DOF neck (lowerNeckPitch, neckYaw,
        upperNeckPitch), two 7-DOF arms, hands with a 3-joint thumb and index, middle and pinky
        fingers of three pitches. Joint names, origins, axes and limits are the URDF's; qpos0 is
