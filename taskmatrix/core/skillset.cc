@@ -188,11 +188,18 @@ IkResult Skillset::solve_ik(const std::vector<std::string>& chain_names, const s
 }
 
 bool Skillset::is_valid(const std::vector<std::string>& chain_names,
-                        const std::vector<double>& values) {
+                        const std::vector<double>& values,
+                        const std::vector<std::string>& may_touch) {
   check_chains(chain_names);
   check_values(chain_names, values, "configuration");
+  if (!may_touch.empty()) {
+    PlanOptions named;
+    named.may_touch = may_touch;
+    const std::string error = do_plan_options_error(named);
+    if (!error.empty()) throw std::invalid_argument(error);
+  }
   if (outside_limits(chain_names, values, kLimitRounding) >= 0) return false;
-  const bool valid = do_is_valid(chain_names, values);
+  const bool valid = do_is_valid(chain_names, values, may_touch);
   ++work_.collision_checks;
   return valid;
 }
@@ -368,7 +375,7 @@ PlanResult Skillset::plan_to_region_unrecorded(const std::vector<std::string>& c
                           "or with NaN");
     }
     // A goal's check is part of the plan's work, not an is_valid call of the program's.
-    if (outside_limits(chain_names, *q, kLimitRounding) < 0 && do_is_valid(chain_names, *q)) {
+    if (outside_limits(chain_names, *q, kLimitRounding) < 0 && do_is_valid(chain_names, *q, {})) {
       goals.push_back(*q);
     }
   }

@@ -152,8 +152,11 @@ class Skillset {
 
   // ---- Collisions.
   // True if the chains at `values` are within limits and nothing of the robot (or what it
-  // holds) touches anything. Throws std::invalid_argument for NaN or wrong sizes.
-  bool is_valid(const std::vector<std::string>& chain_names, const std::vector<double>& values);
+  // holds) touches anything but, up to the planner's touch depth, the objects or bodies in
+  // `may_touch` (as PlanOptions::may_touch: what a motion starts against). Throws
+  // std::invalid_argument for NaN, wrong sizes or a name in `may_touch` the world lacks.
+  bool is_valid(const std::vector<std::string>& chain_names, const std::vector<double>& values,
+                const std::vector<std::string>& may_touch = {});
   // Smallest signed distance (m, negative when penetrating) between the parts the chains move
   // (and what they hold) and everything else, capped at `max_distance_m`.
   double clearance(const std::vector<std::string>& chain_names, const std::vector<double>& values,
@@ -250,9 +253,11 @@ class Skillset {
   virtual IkResult do_solve_ik(const std::vector<std::string>& chain_names,
                                const std::string& frame, const Pose& target,
                                const IkOptions& options) = 0;
-  // Values within limits: whether nothing of the robot (or what it holds) touches anything.
+  // Values within limits: whether nothing of the robot (or what it holds) touches anything
+  // but `may_touch` (see is_valid).
   virtual bool do_is_valid(const std::vector<std::string>& chain_names,
-                           const std::vector<double>& values) = 0;
+                           const std::vector<double>& values,
+                           const std::vector<std::string>& may_touch) = 0;
   virtual double do_clearance(const std::vector<std::string>& chain_names,
                               const std::vector<double>& values, double max_distance_m) = 0;
   // Why `options` cannot be planned with by this backend (e.g. an unknown may_touch name), or

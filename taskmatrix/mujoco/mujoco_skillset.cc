@@ -374,12 +374,15 @@ core::IkResult MujocoSkillset::do_solve_ik(const std::vector<std::string>& chain
 }
 
 bool MujocoSkillset::do_is_valid(const std::vector<std::string>& chain_names,
-                                 const std::vector<double>& values) {
+                                 const std::vector<double>& values,
+                                 const std::vector<std::string>& may_touch) {
   const std::vector<int> joints = joints_of(chain_names);
+  const std::vector<int> touch = object_geoms(may_touch);
   const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
-  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, held_.list());
+  ValidityChecker checker(*scene_, worker_.model(), query_.get(), joints, held_.list(), touch,
+                          MotionPlanner::kTouchDepth);
   checker.keep_off_visitor_route();
   return !checker.in_collision(values.data());
 }

@@ -6,7 +6,8 @@
 //                               head (not the base) throughout
 //   putdown  object, surface    position the held object onto a placement drawn from
 //                               above(object, surface) and near(object, surface), release,
-//                               then the torso and the free arms to rest; where that rest
+//                               lift the hand straight off it (retreat hand, up), then the
+//                               torso and the free arms to rest; where that rest
 //                               fails, a step back from the nearest surface and once more
 //   greet    target, side       fixate on the target until it is centred (head and base);
 //                               then, tracking it with the head alone, raise a free arm
@@ -142,7 +143,9 @@ MachineSpec putdown() {
   m.doc = "place a held object resting on a surface, let go of it and bring the arms to rest";
   m.params = {text_param("object", "the held object"),
               text_param("surface", "surface to put it on", "work_surface")};
-  // Let go, the arms come to rest (and a bent torso upright): a hand left round what it set
+  // Let go, the hand rises straight off the object (open fingers round its far side would
+  // drag it along if the hand drew back against its approach, or as the arm swings to rest),
+  // the arms come to rest (and a bent torso upright): a hand left round what it set
   // down would sweep into the furniture as the base turns or steps, and hide the object from
   // the head camera. An arm whose hand still holds something stays as it is. Where the rest
   // fails (the rest posture puts an elbow into the furniture the robot stands against, or its
@@ -155,12 +158,15 @@ MachineSpec putdown() {
       state("place", "position",
             {{"object", "$object"}, {"frame", "origin"}, {"on", "$surface"}, {"height", "0.01"}}),
       state("release", "release", {{"object", "$object"}}),
+      state("clear", "retreat",
+            {{"part", "hand"}, {"from", "$object"}, {"direction", "up"}, {"distance", "0.1"}}),
       state("stow", "postural", stow),
       state("make_room", "retreat", {{"part", "base"}, {"distance", "0.25"}}),
       state("stow_again", "postural", stow),
       final_state("placed", true)};
   m.initial = "place";
-  m.transitions = {on_completed("place", "release"),        on_completed("release", "stow"),
+  m.transitions = {on_completed("place", "release"),        on_completed("release", "clear"),
+                   on_completed("clear", "stow"),           on_failed("clear", "stow"),
                    on_completed("stow", "placed"),          on_failed("stow", "make_room"),
                    on_completed("make_room", "stow_again"), on_failed("make_room", "placed"),
                    on_completed("stow_again", "placed"),    on_failed("stow_again", "placed")};

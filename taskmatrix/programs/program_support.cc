@@ -176,6 +176,38 @@ constexpr double kEscapeMaxPalmDeviation = 0.01;  // m, halfway through an escap
 
 }  // namespace
 
+bool finger_under(core::ProgramContext& ctx, const std::string& side, const std::string& object,
+                  double rise_m) {
+  constexpr double kAcrossM = 0.01;  // a finger's half thickness, about
+  core::Skillset& skills = ctx.skills();
+  const core::HandSpec* hand = skills.profile().find_hand(side);
+  const core::PerceivedObject* seen = ctx.percepts().find(object);
+  if (!hand || !seen) return false;
+  std::vector<Eigen::AlignedBox3d> parts;
+  for (const core::Shape& s : seen->shapes) parts.push_back(s.bounds());
+  if (parts.empty()) parts.push_back(seen->box);
+  std::vector<Eigen::Vector3d> points;
+  for (const core::FingerSpec& f : hand->fingers) {
+    Eigen::Vector3d previous = Eigen::Vector3d::Zero(), last = Eigen::Vector3d::Zero();
+    for (const std::string& body : f.bodies) {
+      previous = last;
+      last = skills.frame_pose(body).position;
+      points.push_back(last);
+    }
+    if (f.bodies.size() >= 2) points.push_back(2 * last - previous);
+  }
+  for (const Eigen::Vector3d& p : points) {
+    for (const Eigen::AlignedBox3d& b : parts) {
+      const Eigen::AlignedBox2d across(b.min().head<2>(), b.max().head<2>());
+      if (across.exteriorDistance(p.head<2>()) < kAcrossM && b.min().z() > p.z() - kAcrossM &&
+          b.min().z() < p.z() + rise_m) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::string& side) {
   core::Skillset& skills = ctx.skills();
   const std::vector<std::string> held = held_by(skills, side);
@@ -201,13 +233,14 @@ namespace {
 std::optional<Escape> escape_with(core::ProgramContext& ctx, const core::HandSpec* hand,
                                   const std::vector<std::string>& chains,
                                   const std::vector<std::string>& held,
-                                  const std::vector<std::string>& touched, double distance_m) {
+                                  const std::vector<std::string>& touched, double distance_m,
+                                  bool lift) {
   core::Skillset& skills = ctx.skills();
   const core::Pose palm = skills.frame_pose(hand->palm);
   const Eigen::Vector3d approach(hand->approach[0], hand->approach[1], hand->approach[2]);
   const Eigen::Vector3d direction =
-      held.empty() ? Eigen::Vector3d(-(palm.orientation * approach).normalized())
-                   : Eigen::Vector3d::UnitZ();
+      held.empty() && !lift ? Eigen::Vector3d(-(palm.orientation * approach).normalized())
+                            : Eigen::Vector3d::UnitZ();
   core::IkOptions ik;
   ik.restarts = 2;
   ik.collision_free = false;  // it starts in contact; execution checks the rest
@@ -233,6 +266,16 @@ std::optional<Escape> escape_with(core::ProgramContext& ctx, const core::HandSpe
   const std::vector<double> from = clamped_configuration(skills, chains);
   const double lowest_now = lowest_held_point(from);
   std::vector<std::vector<double>> path = {from};
+  // IK does not keep the arm off the robot or the world: where the start touches nothing but
+  // `touched`, a step (and the middle of the way to it) that touches anything else, the
+  // robot's own body included (a forearm swung into the torso), is no escape.
+  const bool judged = skills.is_valid(chains, from, touched);
+  auto clear_step = [&](const std::vector<double>& q) {
+    if (!judged) return true;
+    std::vector<double> middle(q.size());
+    for (size_t i = 0; i < q.size(); ++i) middle[i] = 0.5 * (q[i] + path.back()[i]);
+    return skills.is_valid(chains, middle, touched) && skills.is_valid(chains, q, touched);
+  };
   // Each step moves the palm a few centimetres along `direction`: a solution that turns a joint
   // farther than kEscapeMaxJointStep, or whose straight motion from the step before carries the
   // palm off that line, is another posture of the arm, and moving straight to it would swing
@@ -277,6 +320,10 @@ std::optional<Escape> escape_with(core::ProgramContext& ctx, const core::HandSpe
       keep_near(r);
     }
     if (r.solutions.empty()) break;
+    if (!clear_step(r.solutions.front())) {
+      other_posture = true;  // this way the arm meets something: a planned way, as below
+      break;
+    }
     other_posture = false;
     path.push_back(r.solutions.front());
     palm_before = target.position;
@@ -315,17 +362,17 @@ std::optional<Escape> escape_with(core::ProgramContext& ctx, const core::HandSpe
 
 std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
                                     const std::vector<std::string>& touched, double distance_m,
-                                    bool always, bool torso) {
+                                    bool always, bool torso, bool lift) {
   core::Skillset& skills = ctx.skills();
   const core::HandSpec* hand = skills.profile().find_hand(side);
   if (!hand) return std::nullopt;
   if (touched.empty() && !always) return std::nullopt;
   const std::vector<std::string> held = held_by(skills, side);
-  std::optional<Escape> e = escape_with(ctx, hand, {arm_of(side)}, held, touched, distance_m);
+  std::optional<Escape> e = escape_with(ctx, hand, {arm_of(side)}, held, touched, distance_m, lift);
   // An arm that cannot lift it alone (too few joints to keep the hand's orientation, or at the
   // edge of its reach): torso and arm together.
   if (!e && torso && skills.profile().find_chain("torso")) {
-    e = escape_with(ctx, hand, {"torso", arm_of(side)}, held, touched, distance_m);
+    e = escape_with(ctx, hand, {"torso", arm_of(side)}, held, touched, distance_m, lift);
   }
   return e;
 }

@@ -90,6 +90,12 @@ struct Escape {
   core::TimedMotion motion;
   core::ExecutionOptions options;
 };
+// Whether a finger of the hand on `side` (its segments' origins and a fingertip estimate, as the
+// hand is now) lies under a part of `object`: seen from above within 1 cm of one of its shapes
+// (its box where perception knows no shapes), that shape's bottom above the finger and less
+// than `rise_m` above it. Fingers round a handle: a hand rising would carry the object with it.
+bool finger_under(core::ProgramContext& ctx, const std::string& side, const std::string& object,
+                  double rise_m);
 // What the arm on `side`, its hand or what it holds touches (not the hand itself, not what it
 // holds), by name.
 std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::string& side);
@@ -98,10 +104,13 @@ std::vector<std::string> touched_by_arm(core::ProgramContext& ctx, const std::st
 // the arm cannot move that way. `distance_m`: how far. A straight lift in two steps, each a
 // short joint motion; where IK reaches the lifted hand only in another posture of the arm, a
 // planned motion to a collision-free one. With `torso` (the caller holds the torso, if the
-// robot has one), where the arm alone finds no such motion, torso and arm together.
+// robot has one), where the arm alone finds no such motion, torso and arm together. With
+// `lift`, a bare hand rises along the vertical too: off an object it has let go of, which
+// stands on a surface between its fingers (withdrawn against the approach axis, fingers
+// still round the object's far side would drag it along).
 std::optional<Escape> escape_motion(core::ProgramContext& ctx, const std::string& side,
                                     const std::vector<std::string>& touched, double distance_m,
-                                    bool always = false, bool torso = false);
+                                    bool always = false, bool torso = false, bool lift = false);
 
 // How a motion ended: nullopt when it completed, else its failure.
 using Ended = std::optional<core::Failure>;

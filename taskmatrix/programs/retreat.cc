@@ -1,10 +1,13 @@
 // retreat: makes room. With `part: base` the robot steps back from a surface (or object): the
 // base moves `distance` horizontally away from the nearest point of its box, keeping its
 // heading, so that later arm motions (lowering the arms after a wave, a reach) are not made
-// against the furniture; where that way is taken, it steps in a direction turned from it. With
-// `part: hand` the arm withdraws its hand `distance` straight back against the hand's approach axis
-// (lifting what it holds straight up instead), as after a grasp that did not hold, before the next
-// one is reached for.
+// against the furniture; where that way is taken, it steps in a direction turned from it; a
+// hand that touches an object (not a surface) first gets off it, as below. With `part: hand`
+// the arm withdraws its hand `distance` straight back against the hand's approach axis (lifting
+// what it holds straight up instead), as after a grasp that did not hold, before the next one is
+// reached for; with `direction: up` the hand rises straight up, as off an object it has set down
+// and let go of (its open fingers round the object's far side would drag it back with them),
+// unless a finger lies under part of `from` (round a handle: rising would carry it), then back.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -23,7 +26,10 @@ namespace {
 class Retreat final : public core::TaskProgram {
  public:
   explicit Retreat(const core::Params& p)
-      : part_(p.text("part")), from_(p.text("from")), side_(p.text("side")) {
+      : part_(p.text("part")),
+        from_(p.text("from")),
+        side_(p.text("side")),
+        up_(p.text("direction") == "up") {
     distance_ = p.number("distance");
     if (!(std::isfinite(distance_) && distance_ >= 0 && distance_ <= 2)) {
       throw std::invalid_argument("parameter 'distance': must be in [0, 2] m");
@@ -47,9 +53,11 @@ class Retreat final : public core::TaskProgram {
       return;
     }
     if (part_ == "hand") {
+      // Up, unless a finger lies under part of what it let go of (round a handle): back.
+      const bool lift = up_ && (from_.empty() || !finger_under(ctx, side_, from_, distance_));
       std::optional<Escape> escape =
           escape_motion(ctx, side_, touched_by_arm(ctx, side_), distance_,
-                        /*always=*/true);
+                        /*always=*/true, /*torso=*/false, lift);
       if (!escape) {
         failure_ = core::Failure(core::FailureCode::kIkFailure,
                                  "the " + side_ + " arm cannot withdraw its hand " +
@@ -122,8 +130,24 @@ class Retreat final : public core::TaskProgram {
     if (away.norm() < 1e-6) away = at - 0.5 * (lo + hi);
     if (away.norm() < 1e-6) away = Eigen::Vector2d(-std::cos(base[2]), -std::sin(base[2]));
     away.normalize();
-    // What it steps away from, and what a hand rests against (the object it has just set
-    // down), it may brush as it leaves.
+    // A hand that touches an object other than a surface (the open fingers round what a
+    // putdown has just let go of) gets off it first: the base stepping back would drag the
+    // object along with the hand, off its surface. Up, unless a finger lies under part of it
+    // (round a handle): back.
+    for (const char* side : {"left", "right"}) {
+      if (withdrawn_.count(side)) continue;
+      const std::vector<std::string> touched = touched_by_arm(ctx, side);
+      bool on_object = false, under = false;
+      for (const std::string& id : touched) {
+        const core::PerceivedObject* o = ctx.percepts().find(id);
+        if (!o || o->type == "surface") continue;
+        on_object = true;
+        under = under || finger_under(ctx, side, id, kWithdrawal);
+      }
+      if (on_object && withdraw(ctx, side, touched, /*lift=*/!under)) return std::nullopt;
+    }
+    // What it steps away from, and what a hand rests against (a surface), it may brush as it
+    // leaves.
     motion_.execution.may_touch = {from->id};
     for (const char* side : {"left", "right"}) motion_.allow_touching(touched_by_arm(ctx, side));
 
@@ -172,14 +196,11 @@ class Retreat final : public core::TaskProgram {
     for (const char* side : {"left", "right"}) {
       const std::string arm = arm_of(side);
       if (withdrawn_.count(side)) continue;
-      withdrawn_.insert(side);
-      if (skills.clearance({arm}, skills.configuration({arm}), kNear) >= kNear) continue;
-      std::optional<Escape> escape =
-          escape_motion(ctx, side, touched_by_arm(ctx, side), kWithdrawal, /*always=*/true);
-      if (!escape) continue;
-      withdrawing_ = true;
-      motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
-      return std::nullopt;
+      if (skills.clearance({arm}, skills.configuration({arm}), kNear) >= kNear) {
+        withdrawn_.insert(side);
+        continue;
+      }
+      if (withdraw(ctx, side, touched_by_arm(ctx, side), /*lift=*/false)) return std::nullopt;
     }
     for (size_t k = 0; k < goals.size() && planned < kPlans; ++k) {
       if (k == tried) continue;
@@ -201,6 +222,19 @@ class Retreat final : public core::TaskProgram {
     }
     first->detail += where + ", " + std::to_string(planned) + " planned)";
     return first;
+  }
+
+  // Starts the hand on `side` withdrawing kWithdrawal before the base steps (once per side):
+  // against its approach axis, or with `lift` straight up; false where it cannot.
+  bool withdraw(core::ProgramContext& ctx, const std::string& side,
+                const std::vector<std::string>& touched, bool lift) {
+    withdrawn_.insert(side);
+    std::optional<Escape> escape =
+        escape_motion(ctx, side, touched, kWithdrawal, /*always=*/true, /*torso=*/false, lift);
+    if (!escape) return false;
+    withdrawing_ = true;
+    motion_.follow(ctx, escape->chains, std::move(escape->motion), escape->options);
+    return true;
   }
 
   // The base first, then the torso if the robot has one, and the arms.
@@ -237,9 +271,10 @@ class Retreat final : public core::TaskProgram {
   static constexpr int kPlans = 3;
   static constexpr double kStraightCheck = 0.01;  // m between the straight step's checks
   static constexpr double kNear = 0.02;           // m: a hand this close to something withdraws
-  static constexpr double kWithdrawal = 0.08;     // m, against the hand's approach axis
+  static constexpr double kWithdrawal = 0.08;     // m, how far a hand withdraws first
 
   std::string part_, from_, side_;
+  bool up_ = false;  // part hand: straight up rather than back
   double distance_ = 0.2;
   MotionStage motion_;
   std::optional<core::Failure> failure_;
@@ -271,7 +306,14 @@ core::ProgramType retreat_program() {
             "nearest it)"},
            {"distance", ParamType::kNumber, false, 0.2, {}, "how far, m"},
            {"side", ParamType::kString, false, std::string("any"), kSides,
-            "hand: which; any: the free hand nearest `from`"}},
+            "hand: which; any: the free hand nearest `from`"},
+           {"direction",
+            ParamType::kString,
+            false,
+            std::string("back"),
+            {"back", "up"},
+            "hand: back against the hand's approach axis, or straight up (off what it let go "
+            "of; back where a finger lies under part of `from`)"}},
           [](const core::Params& p) { return std::make_unique<Retreat>(p); }};
 }
 

@@ -672,6 +672,18 @@ TEST(RestockBesideAWalkingVisitor, ThePlansKeepOffTheVisitorsRoute) {
   EXPECT_EQ(trials.find("with visitor"), std::string::npos) << trials.substr(0, 2000);
 }
 
+// atlas picked the juice box up from the side table, the cup standing beside it (office,
+// layout 902); lifting the box off the table before carrying it to the desk, the straight
+// escape IK solved swung its hand into the cup (`restock > putdown(place_box) >
+// position(place): collision: collision of l_hand with cup (depth 0.0 mm)`): IK keeps no
+// clearance. An escape step that touches anything the start did not is no longer taken (a
+// planned way to a clear posture instead).
+TEST(RestockOnAtlas, TheEscapeThatLiftsTheBoxDoesNotSwingTheHandIntoTheCup) {
+  const std::string trials =
+      run_task_trial("restock.yaml", "atlas", "office", "restock.atlas.office.RRTConnect.l902.s3");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
 // Another: park the juice box on the side surface, vacuum the work surface, then step back
 // from it (retreat) and look it over. After the vacuum was set down minibot's hand lay open
 // round its handle a few millimetres over the table: the straight step back was clear at every
@@ -864,6 +876,41 @@ success: graspable(cup)
 )");
   const std::string trials = run_in_root(root, "reach.yaml");
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
+}
+
+// The trial `trial_id` of the tidy task for atlas in a room the programs were not written for
+// (tests/data/environments/workshop: a 0.74 m bench with a shelf over its back, a steel cart to
+// the robot's right as the side surface, a mug with a handle), the bench's top drawn from
+// 0.65-0.80 m; its trials.jsonl.
+std::string workshop_tidy_trial(const std::string& trial_id) {
+  test::ScratchRoot root;
+  const std::filesystem::path data =
+      std::filesystem::path(TASKMATRIX_TEST_ROOT) / "tests" / "data" / "environments" / "workshop";
+  std::filesystem::copy(data, root.path() / "models" / "environments" / "workshop");
+  std::ifstream in(std::filesystem::path(TASKMATRIX_TEST_ROOT) / "scenarios" / "tasks" /
+                   "tidy.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text = std::regex_replace(text, std::regex("\n(robots|environments|trials|layout_seed): [^\n]*"),
+                            "");
+  text = std::regex_replace(text, std::regex("\nsurfaces:\n  work_surface: [^\n]*"), "");
+  root.write("tidy.yaml", text + R"(robots: [atlas]
+environments: [workshop]
+surfaces: {work_surface: {height_m: [0.65, 0.80]}}
+layout_seed: 200
+trials: 6
+)");
+  return run_in_root(root, "tidy.yaml", trial_id);
+}
+
+// atlas set the juice box down on the cart beside the mug; the rest posture from there put its
+// wrist into the bench, and its open hand, drawn back against its approach and carried back as
+// the base stepped away, dragged the box, which knocked the mug off the cart
+// (`criterion_false: above(cup, side_surface)`). Now putdown lifts the hand straight off what
+// it let go of before the arms come to rest, and a base stepping back first lifts a hand off
+// any object (not a surface) it touches.
+TEST(RoomsNeverSeen, TheBoxSetDownOnTheCartStaysThereWhenTheRobotStepsBack) {
+  const std::string trials = workshop_tidy_trial("tidy.atlas.workshop.RRTConnect.l203.s4");
+  EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 3000);
 }
 
 // Over a 0.45 m table tallbot's palm gets nowhere (models/README.md): the first round of grasps
@@ -1157,8 +1204,13 @@ time_limit_s: 90
 success: all_of(not(exists(debris)), not(grasping(vacuum)), above(vacuum, work_surface), postural(rest, left_arm, right_arm))
 )",
                                                          1);
-  // At rest from where it set the vacuum down, not after putdown's step back.
-  EXPECT_EQ(trials.find("\"program\":\"retreat\""), std::string::npos) << trials.substr(0, 3000);
+  // At rest from where it set the vacuum down, not after putdown's step back: one retreat, the
+  // hand's withdrawal off the handle.
+  const std::regex retreat("\"program\":\"retreat\",\"t\":[-0-9.e+]+,\"type\":\"started\"");
+  EXPECT_EQ(std::distance(std::sregex_iterator(trials.begin(), trials.end(), retreat),
+                          std::sregex_iterator()),
+            1)
+      << trials.substr(0, 3000);
 }
 
 // minibot set the vacuum down standing against the desk, where its rest posture puts the
@@ -1474,6 +1526,17 @@ TEST(PositionOnMinibot, AToolAHairOffTheTableIsPlacedThoughEveryPlanFromBesideIt
   const TrialResult r = expect_success("position", "minibot", "kitchen", 114, 15);
   EXPECT_TRUE(a_plan_ran_out(r)) << "no plan ran out of iterations: the case is not the one "
                                     "described";
+}
+
+// After putting the vacuum down, putdown lifts the open hand straight off what it let go of
+// (a hand drawn back against its approach dragged a box set down on a cart). minibot's fingers
+// ring the vacuum's handle, one under it: rising, the hand carried the vacuum up and dropped
+// it off the table (generalization suite, kitchen 108: `criterion_false: above(vacuum,
+// work_surface): vacuum's bottom is 76.6 cm below work_surface's top`). A hand with a finger
+// under part of what it let go of draws back instead.
+TEST(PutdownOnMinibot, TheHandDrawsBackOffTheVacuumsHandleRatherThanLiftingTheVacuum) {
+  const TrialResult r = expect_success("vacuum", "minibot", "kitchen", 108, 9);
+  EXPECT_FALSE(events_of(r, "retreat", "completed").empty()) << "the hand did not withdraw";
 }
 
 // The same in the office (layout 114): lifted, the vacuum is still out over the desk, and

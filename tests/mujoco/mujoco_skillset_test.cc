@@ -484,6 +484,23 @@ TEST_P(SkillsetOnBothRobots, LocomotionMovesTheRobotOnlyThroughTheBaseJoints) {
             0.01);
 }
 
+// Stopped at the first contact of an unplanned motion, the arm is invalid, but valid where
+// `may_touch` names what it touches (as a plan may start against it); a name the world lacks
+// is refused.
+TEST_P(SkillsetOnBothRobots, IsValidLetsTheArmTouchWhatMayTouchNames) {
+  const Chains chains = {"right_arm"};
+  const std::vector<double> into = colliding_configuration(skills(), chains, 12);
+  ASSERT_FALSE(into.empty());
+  const core::ExecutionReport report = skills().execute(
+      chains, skills().time_parameterize(chains, {skills().configuration(chains), into}));
+  ASSERT_EQ(report.status, core::ExecutionStatus::kCollision) << report.message;
+  ASSERT_TRUE(report.collision.has_value());
+  const std::vector<double> at = skills().clamped_configuration(chains);
+  EXPECT_FALSE(skills().is_valid(chains, at)) << report.message;
+  EXPECT_TRUE(skills().is_valid(chains, at, {report.collision->other})) << report.message;
+  EXPECT_THROW(skills().is_valid(chains, at, {"no_such_object"}), std::invalid_argument);
+}
+
 TEST_P(SkillsetOnBothRobots, ExecutingAnUnplannedMotionIntoContactIsACollision) {
   const Chains chains = {"right_arm"};
   // A straight line to a configuration in collision, not planned: execution must stop and

@@ -268,8 +268,9 @@ double FakeSkillset::distance_at(const std::vector<double>& q) const {
 }
 
 bool FakeSkillset::do_is_valid(const std::vector<std::string>& chain_names,
-                               const std::vector<double>& values) {
-  return collisions_at(with(chain_names, values), {}, {}).empty();
+                               const std::vector<double>& values,
+                               const std::vector<std::string>& may_touch) {
+  return collisions_at(with(chain_names, values), {}, may_touch).empty();
 }
 
 double FakeSkillset::do_clearance(const std::vector<std::string>& chain_names,
@@ -328,7 +329,7 @@ core::IkResult FakeSkillset::do_solve_ik(const std::vector<std::string>& chain_n
         inside = inside && sol[i] >= arm.lower[i] && sol[i] <= arm.upper[i];
       if (!inside) continue;
       any_within_limits = true;
-      if (options.collision_free && !do_is_valid(chain_names, sol)) continue;
+      if (options.collision_free && !do_is_valid(chain_names, sol, {})) continue;
       const bool distinct = std::all_of(result.solutions.begin(), result.solutions.end(),
                                         [&](const std::vector<double>& s) {
                                           double far = 0;

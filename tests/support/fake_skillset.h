@@ -66,8 +66,8 @@ class FakeSkillset final : public core::Skillset {
                               const std::vector<double>& values, const std::string& frame) override;
   core::IkResult do_solve_ik(const std::vector<std::string>& chain_names, const std::string& frame,
                              const core::Pose& target, const core::IkOptions& options) override;
-  bool do_is_valid(const std::vector<std::string>& chain_names,
-                   const std::vector<double>& values) override;
+  bool do_is_valid(const std::vector<std::string>& chain_names, const std::vector<double>& values,
+                   const std::vector<std::string>& may_touch) override;
   double do_clearance(const std::vector<std::string>& chain_names,
                       const std::vector<double>& values, double max_distance_m) override;
   std::string do_plan_options_error(const core::PlanOptions& options) const override;

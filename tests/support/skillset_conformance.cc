@@ -49,6 +49,8 @@ TEST_P(SkillsetConformance, ArgumentsAreCheckedBeforeTheBackendSeesThem) {
                        "chain 'left_arm' is listed twice"));
   EXPECT_TRUE(contains(rejection([&] { skills().is_valid(arm, {0.0}); }),
                        "configuration has 1 values but chains [left_arm] have"));
+  EXPECT_TRUE(
+      contains(rejection([&] { skills().is_valid(arm, q, {"no_such_object"}); }), "may_touch: "));
   std::vector<double> nan_q = q;
   nan_q[1] = NAN;
   EXPECT_TRUE(contains(rejection([&] { skills().is_valid(arm, nan_q); }),
