@@ -377,7 +377,9 @@ bool MujocoSkillset::do_is_valid(const std::vector<std::string>& chain_names,
                                  const std::vector<double>& values,
                                  const std::vector<std::string>& may_touch) {
   const std::vector<int> joints = joints_of(chain_names);
-  const std::vector<int> touch = object_geoms(may_touch);
+  // Resolved only when asked: object_geoms walks every geom, and is_valid runs per turning
+  // period in fixate and per candidate elsewhere.
+  const std::vector<int> touch = may_touch.empty() ? std::vector<int>{} : object_geoms(may_touch);
   const ObstacleBelief::Scope belief(belief_, worker_.model());
   refresh_supports();
   sync_query();
