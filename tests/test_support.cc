@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <regex>
 #include <sstream>
 
 #include "harness/scenario/planner_plugins.h"
@@ -111,6 +112,33 @@ void ScratchRoot::replace(const std::string& relative, const std::string& from,
   }
   text.replace(at, from.size(), to);
   write(relative, text);
+}
+
+void add_turned_kitchen(const ScratchRoot& root) {
+  const std::filesystem::path environments = root.path() / "models" / "environments";
+  std::filesystem::copy(environments / "kitchen", environments / "kitchen_turned",
+                        std::filesystem::copy_options::recursive);
+  const std::string xml = "models/environments/kitchen_turned/kitchen.xml";
+  root.replace(xml, "<body name=\"table\" pos=\"0.65 0 0.65\">",
+               "<body name=\"table\" pos=\"0.75 0 0.65\" euler=\"0 0 0.35\">");
+  // What stands on the table, 0.1 m along x with it.
+  std::string text = root.read(xml);
+  const std::regex on_table("<body name=\"(cup|box|vacuum|debris_[0-9])\" pos=\"([-0-9.]+) ");
+  std::string moved;
+  auto from = text.cbegin();
+  for (std::sregex_iterator it(text.begin(), text.end(), on_table), end; it != end; ++it) {
+    moved.append(from, (*it)[0].first);
+    moved += "<body name=\"" + (*it)[1].str() + "\" pos=\"" +
+             std::to_string(std::stod((*it)[2].str()) + 0.1) + " ";
+    from = (*it)[0].second;
+  }
+  moved.append(from, text.cend());
+  root.write(xml, moved);
+  const std::string yaml = "models/environments/kitchen_turned/environment.yaml";
+  root.replace(yaml, "name: kitchen\n", "name: kitchen_turned\n");
+  root.replace(yaml, "{x: [0.28, 1.02], y: [-0.62, 0.62], regions: [floor]}",
+               "{x: [0.19, 1.31], y: [-0.71, 0.71], regions: [floor]}");
+  root.replace(yaml, "  - {name: table_top, x: [0.36, 0.94], y: [-0.54, 0.54], z: 0.65}\n", "");
 }
 
 std::optional<std::string> known_mode_difference(const std::string& program,

@@ -69,4 +69,11 @@ class ScratchRoot {
   std::filesystem::path root_;
 };
 
+// Adds to `root` a room the programs were not written for: the kitchen with its table turned
+// 0.35 rad (20 degrees) about the vertical and moved to x 0.75, the objects on it moved along
+// with it by 0.1 m in x, as models/environments/kitchen_turned. The table's world-aligned box
+// reaches 10-20 cm beyond the table at its corners; the environment names no obstacle region
+// on the table, so objects and obstacles go where its own rectangle says.
+void add_turned_kitchen(const ScratchRoot& root);
+
 }  // namespace taskmatrix::test

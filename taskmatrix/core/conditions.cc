@@ -38,17 +38,29 @@ std::optional<Eigen::AlignedBox3d> box_of(const World& world, const std::string&
   return o->box;
 }
 
-// A box of `a`'s size resting on `b`'s top face, its centre drawn uniformly so that it lies
-// within `b`'s footprint grown by `grow` (or anywhere over the footprint if it does not fit).
-Eigen::AlignedBox3d resting_on(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
-                               double grow, std::mt19937_64& rng) {
+// The top of `id` seen from above: a surface's top face (turned with the surface), else the
+// footprint of its box (or of the hypothesis's).
+std::optional<SurfaceTop> top_of(const World& world, const std::string& id, const Hypothesis* h) {
+  if (h && h->id == id) return surface_top(h->box, Pose{}, {});
+  const PerceivedObject* o = world.percepts.find(id);
+  if (!o) return std::nullopt;
+  return o->type == "surface" ? surface_top(*o) : surface_top(o->box, o->pose, {});
+}
+
+// A box of `a`'s size resting on the top `b`, its centre drawn uniformly so that its footprint
+// lies within `b`'s grown by `grow` (or its centre anywhere over `b` if it does not fit).
+Eigen::AlignedBox3d resting_on(const Eigen::AlignedBox3d& a, const SurfaceTop& b, double grow,
+                               std::mt19937_64& rng) {
   const Eigen::Vector3d half = a.sizes() / 2;
-  Eigen::Vector3d centre(0, 0, b.max().z() + half.z());
+  const Eigen::Vector2d across = b.extent(half.head<2>());  // along b's axes
+  Eigen::Vector2d at;
   for (int i = 0; i < 2; ++i) {
-    double lo = b.min()[i] - grow + half[i], hi = b.max()[i] + grow - half[i];
-    if (lo > hi) lo = b.min()[i], hi = b.max()[i];
-    centre[i] = std::uniform_real_distribution<double>(lo, hi)(rng);
+    double lo = b.lo[i] - grow + across[i], hi = b.hi[i] + grow - across[i];
+    if (lo > hi) lo = b.lo[i], hi = b.hi[i];
+    at[i] = std::uniform_real_distribution<double>(lo, hi)(rng);
   }
+  Eigen::Vector3d centre(0, 0, b.height + half.z());
+  centre.head<2>() = b.world(at);
   return Eigen::AlignedBox3d(centre - half, centre + half);
 }
 
@@ -74,7 +86,8 @@ class Near final : public Condition {
   std::optional<Eigen::AlignedBox3d> propose(const World& w, const std::string& object,
                                              std::mt19937_64& rng) const override {
     if (object != a_) return std::nullopt;
-    const auto a = box_of(w, a_, nullptr), b = box_of(w, b_, nullptr);
+    const auto a = box_of(w, a_, nullptr);
+    const auto b = top_of(w, b_, nullptr);
     if (!a || !b) return std::nullopt;
     return resting_on(*a, *b, d_, rng);
   }
@@ -87,29 +100,33 @@ class Near final : public Condition {
 class Above final : public Condition {
  public:
   Above(std::string a, std::string b) : a_(std::move(a)), b_(std::move(b)) {}
+  // a's footprint overlaps b's top (a surface's top turned with it), and a's bottom is no lower
+  // than b's top by more than the tolerance.
   bool holds(const World& w, const Hypothesis* h) const override {
-    const auto a = box_of(w, a_, h), b = box_of(w, b_, h);
+    const auto a = box_of(w, a_, h);
+    const auto b = top_of(w, b_, h);
     if (!a || !b) return false;
-    const bool overlap_xy = a->min().x() <= b->max().x() && b->min().x() <= a->max().x() &&
-                            a->min().y() <= b->max().y() && b->min().y() <= a->max().y();
-    return overlap_xy && a->min().z() >= b->max().z() - kAboveTolerance;
+    return b->overlaps(a->min().head<2>(), a->max().head<2>()) &&
+           a->min().z() >= b->height - kAboveTolerance;
   }
   std::string describe() const override { return "above(" + a_ + ", " + b_ + ")"; }
   std::string explain(const World& w) const override {
-    const auto a = box_of(w, a_, nullptr), b = box_of(w, b_, nullptr);
+    const auto a = box_of(w, a_, nullptr);
+    const auto b = top_of(w, b_, nullptr);
     if (!a || !b) return describe() + ": " + unknown(w, {a_, b_});
     if (holds(w, nullptr)) return describe() + " holds";
-    const bool overlap_xy = a->min().x() <= b->max().x() && b->min().x() <= a->max().x() &&
-                            a->min().y() <= b->max().y() && b->min().y() <= a->max().y();
-    if (!overlap_xy) return describe() + ": " + a_ + " is not over " + b_;
-    return describe() + ": " + a_ + "'s bottom is " + cm(b->max().z() - a->min().z()) + " below " +
+    if (!b->overlaps(a->min().head<2>(), a->max().head<2>())) {
+      return describe() + ": " + a_ + " is not over " + b_;
+    }
+    return describe() + ": " + a_ + "'s bottom is " + cm(b->height - a->min().z()) + " below " +
            b_ + "'s top";
   }
-  // Resting on b's top face, wholly inside its footprint when it fits.
+  // Resting on b's top face, wholly inside it when it fits.
   std::optional<Eigen::AlignedBox3d> propose(const World& w, const std::string& object,
                                              std::mt19937_64& rng) const override {
     if (object != a_) return std::nullopt;
-    const auto a = box_of(w, a_, nullptr), b = box_of(w, b_, nullptr);
+    const auto a = box_of(w, a_, nullptr);
+    const auto b = top_of(w, b_, nullptr);
     if (!a || !b) return std::nullopt;
     return resting_on(*a, *b, 0.0, rng);
   }

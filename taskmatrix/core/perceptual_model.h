@@ -42,6 +42,10 @@ struct PerceivedObject {
   std::map<std::string, Pose, std::less<>> frames;
   // The collision geometry (empty when perception knows only the box).
   std::vector<Shape> shapes;
+  // A surface's top face seen from above, in the surface's own upright frame (`pose`): the
+  // extent of its top slab along that frame's x and y axes, from its origin. Empty for other
+  // objects, and where perception knows only the box; surface_top() reads it.
+  Eigen::AlignedBox2d top;
 
   // Where a hand grasps it: the "grip" frame's position if it has one, else the box centre.
   Eigen::Vector3d grasp_point() const {
@@ -49,6 +53,43 @@ struct PerceivedObject {
     return grip != frames.end() ? grip->second.position : box.center();
   }
 };
+
+// A surface's top face seen from above: a rectangle turned about the vertical with the
+// surface's frame (a surface's frame is upright, models/README.md), so that a table standing at
+// an angle in a room is not taken for its world-aligned bounding box, whose corners lie beside
+// it. `lo` and `hi` bound it along its own axes, measured from the world's origin: a point's
+// coordinates there are local(). A surface whose frame is not turned (or known only by its box)
+// is its box's footprint, exactly: local() is then the identity.
+struct SurfaceTop {
+  double cos = 1, sin = 0;  // of the turn of its axes from the world's x and y
+  Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
+  double height = 0;  // of the top face
+
+  bool turned() const { return sin != 0 || cos != 1; }
+  // A world point (seen from above) in the top's axes, and back.
+  Eigen::Vector2d local(const Eigen::Vector2d& world) const;
+  Eigen::Vector2d world(const Eigen::Vector2d& local) const;
+  // Half extents along the top's axes of a world-aligned footprint with half extents `half`.
+  Eigen::Vector2d extent(const Eigen::Vector2d& half) const;
+  // The distance from the world point `p` to the rectangle; negative inside it (how far in from
+  // its nearest edge).
+  double signed_distance(const Eigen::Vector2d& p) const;
+  // The point of the rectangle nearest the world point `p` (`p` itself inside it).
+  Eigen::Vector2d nearest(const Eigen::Vector2d& p) const;
+  // Whether the world-aligned footprint [lo, hi] overlaps the rectangle (touching counts).
+  bool overlaps(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) const;
+  // The largest world-aligned rectangle centred in it (its footprint where not turned): where
+  // things are set down when only world-aligned rectangles can be given.
+  Eigen::AlignedBox2d inscribed() const;
+};
+
+// The top of a surface whose world-aligned box is `box`, frame `pose` and top extent in that
+// frame `top` (PerceivedObject::top; empty: the box's footprint).
+SurfaceTop surface_top(const Eigen::AlignedBox3d& box, const Pose& pose,
+                       const Eigen::AlignedBox2d& top);
+inline SurfaceTop surface_top(const PerceivedObject& surface) {
+  return surface_top(surface.box, surface.pose, surface.top);
+}
 
 // How far a shape must stick out beyond the rest of its object to count as a part of its own.
 constexpr double kProtrudingPartM = 0.01;

@@ -132,7 +132,12 @@ TaskVariation draw_variation(const VariationOptions& options, const WorldGeometr
                            "x and y must be [min, max] fractions with 0 <= min < max <= 1");
     }
     if (p.yaw_rad) check_range(*p.yaw_rad, key + ".yaw", "rad");
-    const ObstacleRegion& a = surface.area;
+    // In the top's own axes where it is turned (the fractions along its own sides).
+    const Rect2 a = surface.turned ? surface.turned->area
+                                   : Rect2{surface.area.x_min, surface.area.x_max,
+                                           surface.area.y_min, surface.area.y_max};
+    const double c = surface.turned ? surface.turned->cos : 1;
+    const double s = surface.turned ? surface.turned->sin : 0;
     const double w = a.x_max - a.x_min, d = a.y_max - a.y_min;
     const Rect2 area{a.x_min + f.x_min * w, a.x_min + f.x_max * w, a.y_min + f.y_min * d,
                      a.y_min + f.y_max * d};
@@ -154,14 +159,20 @@ TaskVariation draw_variation(const VariationOptions& options, const WorldGeometr
     bool ok = false;
     ObjectDraw drawn;
     for (int attempt = 0; attempt < options.max_attempts && !ok; ++attempt) {
-      const double x = rng.in(area.x_min + r, area.x_max - r);
-      const double y = rng.in(area.y_min + r, area.y_max - r);
+      double x = rng.in(area.x_min + r, area.x_max - r);
+      double y = rng.in(area.y_min + r, area.y_max - r);
+      if (surface.turned) {
+        const double u = x, v = y;
+        x = c * u - s * v;
+        y = s * u + c * v;
+      }
       const double yaw = p.yaw_rad ? draw(rng, *p.yaw_rad) : 0.0;
       ok = std::all_of(keep.begin(), keep.end(),
                        [&](const Disk& k) {
                          return std::hypot(x - k.x, y - k.y) >= k.r + r + options.clearance_m;
                        }) &&
-           std::all_of(a.keep_out.begin(), a.keep_out.end(), [&](const Rect2& k) {
+           std::all_of(surface.area.keep_out.begin(), surface.area.keep_out.end(),
+                       [&](const Rect2& k) {
              return distance_to_rect(x, y, k) >= r + options.clearance_m;
            });
       drawn = {p.object, p.surface, x, y, surface.height + obj.below + kRestGapM, yaw};

@@ -11,7 +11,9 @@
 //   - Robot start: offsets from the environment's start pose, each drawn uniformly.
 //   - Objects: in the order listed, each object's centre is drawn uniformly within its
 //     surface's placement area (the environment's obstacle region on that surface, or the top
-//     face less 3 cm) or the sub-rectangle `area` of it (fractions of the area along x and y),
+//     face less 3 cm; for a top turned about the vertical without such a region, its own
+//     rectangle less 3 cm, in its own axes: SurfaceGeometry::turned) or the sub-rectangle
+//     `area` of it (fractions of the area along its x and y),
 //     so that its footprint disk lies wholly inside that area and keeps `clearance_m` from
 //     every object placed before it and from every task object (debris included) that is not
 //     placed and still stands on that surface; its yaw (about the vertical, added to the
@@ -75,11 +77,23 @@ struct VariationOptions {
 };
 
 // ---- What the generator knows of a scene (from the compiled model).
+// A top face turned about the vertical with its surface: the turn (cosine and sine) and the
+// rectangle where objects are placed, in its own axes (the world's turned by it: a world point
+// p lies at (cos p.x + sin p.y, -sin p.x + cos p.y) there).
+struct TurnedArea {
+  double cos = 1, sin = 0;
+  Rect2 area;
+};
+
 struct SurfaceGeometry {
   std::string name;     // symbolic name ("work_surface")
-  Rect2 top;            // the top face's extent
+  Rect2 top;            // the top face's extent (world-aligned)
   double height = 0;    // of the top face
   ObstacleRegion area;  // where things stand on it: its z is `height`
+  // A top turned about the vertical, with no obstacle region of the environment's on it:
+  // objects are placed within its own rectangle (less the margin `area` keeps), and `area`,
+  // where obstacles go, is the largest world-aligned rectangle inside that.
+  std::optional<TurnedArea> turned;
 };
 
 struct ObjectGeometry {

@@ -25,9 +25,9 @@ const char* type_name(core::ObjectKind kind) {
   return "object";
 }
 
-void add_geom(const mjModel* m, const mjData* d, int g, Eigen::AlignedBox3d& box) {
-  const double* p = d->geom_xpos + 3 * g;
-  const double* r = d->geom_xmat + 9 * g;  // row-major: r[3 * i + j] = R(i, j)
+// Half extents of geom `g` along the axes of a frame in which its rotation is `r` (row-major:
+// r[3 * i + j] = R(i, j)).
+Eigen::Vector3d geom_half(const mjModel* m, int g, const double* r) {
   const double* s = m->geom_size + 3 * g;
   Eigen::Vector3d half;
   for (int i = 0; i < 3; ++i) {
@@ -53,9 +53,25 @@ void add_geom(const mjModel* m, const mjData* d, int g, Eigen::AlignedBox3d& box
         break;
     }
   }
+  return half;
+}
+
+void add_geom(const mjModel* m, const mjData* d, int g, Eigen::AlignedBox3d& box) {
+  const double* p = d->geom_xpos + 3 * g;
+  const Eigen::Vector3d half = geom_half(m, g, d->geom_xmat + 9 * g);
   const Eigen::Vector3d c(p[0], p[1], p[2]);
   box.extend(c - half);
   box.extend(c + half);
+}
+
+// Whether geom `g` of a surface's body is part of its top slab: its top within 5 mm of the
+// body origin's height.
+bool in_top_slab(const mjModel* m, const mjData* d, int body, int g) {
+  if (m->geom_bodyid[g] != body || m->geom_type[g] == mjGEOM_PLANE) return false;
+  Eigen::AlignedBox3d one;
+  one.setEmpty();
+  add_geom(m, d, g, one);
+  return std::abs(one.max().z() - d->xpos[3 * body + 2]) <= 0.005;
 }
 
 // The collision geoms of `body` (and, for a subtree, its descendants) as shapes.
@@ -115,17 +131,31 @@ Eigen::AlignedBox3d geom_box(const mjModel* m, const mjData* d, int geom) {
 }
 
 Eigen::AlignedBox3d surface_box(const mjModel* m, const mjData* d, int body) {
-  const double top = d->xpos[3 * body + 2];
   Eigen::AlignedBox3d box;
   box.setEmpty();
   for (int g = 0; g < m->ngeom; ++g) {
-    if (m->geom_bodyid[g] != body || m->geom_type[g] == mjGEOM_PLANE) continue;
-    Eigen::AlignedBox3d one;
-    one.setEmpty();
-    add_geom(m, d, g, one);
-    if (std::abs(one.max().z() - top) <= 0.005) box.extend(one);
+    if (in_top_slab(m, d, body, g)) add_geom(m, d, g, box);
   }
   return box.isEmpty() ? body_box(m, d, body, false) : box;
+}
+
+Eigen::AlignedBox2d surface_top_extent(const mjModel* m, const mjData* d, int body) {
+  Eigen::AlignedBox2d extent;  // empty unless some geom is in the top slab
+  const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rb(d->xmat + 9 * body);
+  const Eigen::Vector3d pb(d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2]);
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (!in_top_slab(m, d, body, g)) continue;
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rg(d->geom_xmat + 9 * g);
+    const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rel = rb.transpose() * rg;
+    const Eigen::Vector3d at =
+        rb.transpose() *
+        (Eigen::Vector3d(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]) -
+         pb);
+    const Eigen::Vector3d half = geom_half(m, g, rel.data());
+    extent.extend((at - half).head<2>());
+    extent.extend((at + half).head<2>());
+  }
+  return extent;
 }
 
 Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool subtree) {
@@ -185,6 +215,7 @@ std::optional<core::PerceivedObject> perceive(const MujocoSkillset& skills, cons
   if (o.box.isEmpty()) return std::nullopt;
   if (thing.type == "graspable" || thing.type == "tool")
     o.shapes = collision_shapes(m, d, thing.body, thing.subtree);
+  if (thing.type == "surface") o.top = surface_top_extent(m, d, thing.body);
   o.last_seen = time;
   o.confidence = 1.0;
   if (thing.grip_site >= 0) {

@@ -23,6 +23,10 @@ Eigen::AlignedBox3d body_box(const mjModel* m, const mjData* d, int body, bool s
 // is not part of the desk's top.
 Eigen::AlignedBox3d surface_box(const mjModel* m, const mjData* d, int body);
 
+// The extent of those geoms in the body's own frame, seen from above, from its origin
+// (core::PerceivedObject::top; empty where no geom is at the origin's height).
+Eigen::AlignedBox2d surface_top_extent(const mjModel* m, const mjData* d, int body);
+
 class GroundTruthPerception final : public core::Perception {
  public:
   explicit GroundTruthPerception(const MujocoSkillset& skills) : skills_(skills) {}

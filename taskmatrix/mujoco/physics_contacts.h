@@ -21,7 +21,9 @@
 // completed.
 //
 // The same contacts as mj_collision (a test compares them field for field on both robots'
-// states along a motion over the table, objects resting, and against the counter), listed in
+// states along a motion over the table, objects resting, and against the counter), but for
+// the phantom depths MuJoCo's box-box function reports (collide_geoms gives a box-box contact
+// no more depth than the boxes overlap along its normal), listed in
 // another order (candidate order, not MuJoCo's body-pair order), so the constraint solver's
 // sums run in another order and states differ from MuJoCo's own pipeline at rounding level.
 // With one exception, a defect of MuJoCo 2.2.2 (fixed in 2.3.2): its broadphase pairs a static

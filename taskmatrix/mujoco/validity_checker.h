@@ -56,7 +56,9 @@ bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjCon
 
 // The validity checker's test of one geom pair as posed in `d`, within `margin`: collision
 // bits first, then bounding spheres (as MuJoCo's mj_collideGeoms), then, for a box, the other
-// geom's bounding sphere against the box itself, then MuJoCo's narrow-phase function. Returns
+// geom's bounding sphere against the box itself, then MuJoCo's narrow-phase function (a
+// box-box pair's contacts no deeper than the boxes overlap along their normal: MuJoCo 2.2.2's
+// box-box function reports phantom depths, correct_box_box_contacts in the .cc). Returns
 // the number of contacts written to `out` (room for mjMAXCONPAIR), with their geom ids set;
 // `narrow_calls`, if given, counts the narrow-phase calls.
 int collide_geoms(const mjModel* m, mjData* d, const GeomPair& p, double margin, mjContact* out,

@@ -109,11 +109,26 @@ void Scene::index_variations() {
     if (region != environment_.obstacle_regions.end()) {
       s.area = *region;
     } else {
+      // A top turned about the vertical (the corners of its world-aligned box lie beside it):
+      // objects go within its own rectangle, obstacles within the largest world-aligned
+      // rectangle inside it.
+      core::Pose frame;
+      frame.position = Eigen::Vector3d(d->xpos[3 * body], d->xpos[3 * body + 1], rig.height);
+      frame.orientation = Eigen::Quaterniond(d->xquat[4 * body], d->xquat[4 * body + 1],
+                                             d->xquat[4 * body + 2], d->xquat[4 * body + 3]);
+      const core::SurfaceTop turned = core::surface_top(top, frame, surface_top_extent(m, d, body));
+      const Eigen::AlignedBox2d inside = turned.inscribed();
+      if (turned.turned()) {
+        s.turned = core::TurnedArea{
+            turned.cos, turned.sin,
+            core::Rect2{turned.lo.x() + kAreaMargin, turned.hi.x() - kAreaMargin,
+                        turned.lo.y() + kAreaMargin, turned.hi.y() - kAreaMargin}};
+      }
       s.area.name = name;
-      s.area.x_min = s.top.x_min + kAreaMargin;
-      s.area.x_max = s.top.x_max - kAreaMargin;
-      s.area.y_min = s.top.y_min + kAreaMargin;
-      s.area.y_max = s.top.y_max - kAreaMargin;
+      s.area.x_min = inside.min().x() + kAreaMargin;
+      s.area.x_max = inside.max().x() - kAreaMargin;
+      s.area.y_min = inside.min().y() + kAreaMargin;
+      s.area.y_max = inside.max().y() - kAreaMargin;
       s.area.z = rig.height;
       s.area.keep_out = fixtures;
     }

@@ -8,14 +8,14 @@
 //                               above(object, surface) and near(object, surface), release,
 //                               lift the hand straight off it (retreat hand, up), then the
 //                               torso and the free arms to rest; where that rest
-//                               fails, a step back from the nearest surface and once more
+//                               fails, a step back from the furniture and once more
 //   greet    target, side       fixate on the target until it is centred (head and base);
 //                               then, tracking it with the head alone, raise a free arm
 //                               (postural wave_start) and wave (canned wave, while
 //                               in_view(target) holds); tracking stops, the arm is lowered
 //                               and it finds the target once more.
 //                               Where the base cannot turn to the target or the arms cannot
-//                               come down to rest, it steps back from the nearest surface
+//                               come down to rest, it steps back from the furniture
 //                               (retreat), lowers the arms, and tries once more (lowering the
 //                               torso's bend too; finding: twice, a second step back first); a
 //                               target that leaves the view while the arm rises or waves is found
@@ -149,7 +149,7 @@ MachineSpec putdown() {
   // down would sweep into the furniture as the base turns or steps, and hide the object from
   // the head camera. An arm whose hand still holds something stays as it is. Where the rest
   // fails (the rest posture puts an elbow into the furniture the robot stands against, or its
-  // plan runs out of iterations), the robot steps back from the nearest surface and tries
+  // plan runs out of iterations), the robot steps back from the furniture and tries
   // once more; arms that still find no way stay where they are (the object is placed all the
   // same).
   const core::RawParams stow = {
@@ -183,7 +183,7 @@ MachineSpec greet() {
   // rest) assume it stays put, and so does the rest posture they end in.
   m.concurrent = {{"track", "fixate", {{"object", "$target"}, {"base", "false"}}, false}};
   // Close beside furniture (after a putdown), the base may not turn towards the target, nor
-  // the arms come down to rest: the robot steps back from the nearest surface and tries once
+  // the arms come down to rest: the robot steps back from the furniture and tries once
   // more.
   const std::string limbs = "left_arm, right_arm, left_hand, right_hand";
   const core::RawParams lower = {

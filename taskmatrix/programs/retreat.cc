@@ -1,8 +1,11 @@
 // retreat: makes room. With `part: base` the robot steps back from a surface (or object): the
-// base moves `distance` horizontally away from the nearest point of its box, keeping its
+// base moves `distance` horizontally away from the nearest point of its top (or box), keeping its
 // heading, so that later arm motions (lowering the arms after a wave, a reach) are not made
-// against the furniture; where that way is taken, it steps in a direction turned from it; a
-// hand that touches an object (not a surface) first gets off it, as below. With `part: hand`
+// against the furniture; where that way is taken, it steps in a direction turned from it.
+// Without `from` it steps away from every surface at once: in the direction that leaves the
+// base and the hands (where they are, and where the arms' rest would put them) farthest from
+// the nearest surface. A hand that touches an object (not a
+// surface) first gets off it, as below. With `part: hand`
 // the arm withdraws its hand `distance` straight back against the hand's approach axis (lifting
 // what it holds straight up instead), as after a grasp that did not hold, before the next one is
 // reached for; with `direction: up` the hand rises straight up, as off an object it has set down
@@ -124,10 +127,9 @@ class Retreat final : public core::TaskProgram {
                  : core::Failure(core::FailureCode::kPerceptionMiss,
                                  "'" + from_ + "' is not in the perceptual model");
     }
-    const Eigen::Vector2d lo = from->box.min().head<2>(), hi = from->box.max().head<2>();
-    const Eigen::Vector2d nearest = at.cwiseMax(lo).cwiseMin(hi);
-    Eigen::Vector2d away = at - nearest;
-    if (away.norm() < 1e-6) away = at - 0.5 * (lo + hi);
+    const core::SurfaceTop top = core::surface_top(*from);
+    Eigen::Vector2d away = at - top.nearest(at);
+    if (away.norm() < 1e-6) away = at - top.world(0.5 * (top.lo + top.hi));
     if (away.norm() < 1e-6) away = Eigen::Vector2d(-std::cos(base[2]), -std::sin(base[2]));
     away.normalize();
     // A hand that touches an object other than a surface (the open fingers round what a
@@ -152,9 +154,9 @@ class Retreat final : public core::TaskProgram {
     for (const char* side : {"left", "right"}) motion_.allow_touching(touched_by_arm(ctx, side));
 
     const core::ChainInfo& chain = skills.chain("base");
-    std::vector<std::vector<double>> goals;  // collision-free, nearest to straight away first
-    for (const double turn : {0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0}) {
-      const Eigen::Vector2d way = Eigen::Rotation2Dd(turn * M_PI / 6) * away;
+    const std::vector<Eigen::Vector2d> ways = directions(ctx, at, away);
+    std::vector<std::vector<double>> goals;  // collision-free, in the order of `ways`
+    for (const Eigen::Vector2d& way : ways) {
       std::vector<double> goal = base;
       goal[0] += distance_ * way.x();
       goal[1] += distance_ * way.y();
@@ -162,9 +164,11 @@ class Retreat final : public core::TaskProgram {
         goal[i] = std::clamp(goal[i], chain.lower[i], chain.upper[i]);
       if (skills.is_valid({"base"}, goal)) goals.push_back(std::move(goal));
     }
-    const std::string where = " (stepping " + std::to_string(distance_).substr(0, 4) +
-                              " m away from '" + from->id + "', " + std::to_string(goals.size()) +
-                              " of 7 directions within 90 degrees of straight away free";
+    const std::string where =
+        " (stepping " + std::to_string(distance_).substr(0, 4) + " m away from '" + from->id +
+        "', " + std::to_string(goals.size()) + " of " + std::to_string(ways.size()) +
+        (from_.empty() ? " directions free, the farthest from every surface first"
+                       : " directions within 90 degrees of straight away free");
     if (goals.empty()) {
       return core::Failure(core::FailureCode::kInvalidGoal,
                            "the goal configuration is in collision" + where + ")");
@@ -249,29 +253,85 @@ class Retreat final : public core::TaskProgram {
   // `from`, or the surface nearest to the base or a hand.
   const core::PerceivedObject* away_from(core::ProgramContext& ctx, const Eigen::Vector2d& at) {
     if (!from_.empty()) return ctx.percepts().find(from_);
-    // Nearest to the base or to a hand (seen from above): a hand out over a surface is what
-    // the arms' later motions would meet.
-    std::vector<Eigen::Vector2d> points = {at};
-    for (const core::HandSpec& hand : ctx.skills().profile().hands) {
-      points.push_back(ctx.skills().frame_pose(hand.palm).position.head<2>());
-    }
+    const std::vector<Eigen::Vector3d> points = base_and_hands(ctx, at);
     const core::PerceivedObject* best = nullptr;
     double best_d = std::numeric_limits<double>::infinity();
     for (const core::PerceivedObject* s : ctx.percepts().of_type("surface")) {
-      for (const Eigen::Vector2d& p : points) {
-        const Eigen::Vector2d nearest =
-            p.cwiseMax(s->box.min().head<2>()).cwiseMin(s->box.max().head<2>());
-        const double d = (p - nearest).norm();
-        if (d < best_d) best_d = d, best = s;
-      }
+      const double d = distance_to(*s, points, Eigen::Vector2d::Zero());
+      if (d < best_d) best_d = d, best = s;
     }
     return best;
+  }
+
+  // The base and the hands, the hands where they are and where the rest of the torso and the
+  // arms would put them from here (what follows a step back: the arms lowered after a wave or
+  // a putdown): a hand out over a surface is what the arms' later motions would meet. The
+  // base counts at any height (its z is minus infinity).
+  static std::vector<Eigen::Vector3d> base_and_hands(core::ProgramContext& ctx,
+                                                     const Eigen::Vector2d& at) {
+    core::Skillset& skills = ctx.skills();
+    const ChainValues rest =
+        posture_values(skills, "rest", {"torso", arm_of("left"), arm_of("right")});
+    std::vector<Eigen::Vector3d> points = {
+        Eigen::Vector3d(at.x(), at.y(), -std::numeric_limits<double>::infinity())};
+    for (const core::HandSpec& hand : skills.profile().hands) {
+      points.push_back(skills.frame_pose(hand.palm).position);
+      points.push_back(skills.frame_pose_at(rest.chains, rest.values, hand.palm).position);
+    }
+    return points;
+  }
+
+  // The least distance, seen from above, from `points` moved by `step` to the top of
+  // `surface`; negative inside it (how far in from its nearest edge). A hand higher than
+  // kOverTop above the top (an arm raised to wave) does not count: it does not meet it.
+  static double distance_to(const core::PerceivedObject& surface,
+                            const std::vector<Eigen::Vector3d>& points,
+                            const Eigen::Vector2d& step) {
+    const core::SurfaceTop top = core::surface_top(surface);
+    double least = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& point : points) {
+      if (point.z() > top.height + kOverTop) continue;
+      least = std::min(least, top.signed_distance(point.head<2>() + step));
+    }
+    return least;
+  }
+
+  // The directions to step in. Away from `from`: straight away, then turned from it in steps
+  // of 30 degrees up to 90 either way, nearest first. Without `from`, every surface counts:
+  // stepping from the nearest one alone can take the robot towards another (from the counter
+  // it set a cup on towards the table beside it, whose top the arms' rest then meets). All
+  // 12 directions 30 degrees apart, ordered by the clearance the step leaves, seen from above,
+  // between the base and the hands and the nearest surface to them (to the millimetre; ties
+  // nearest straight away from the nearest surface first).
+  std::vector<Eigen::Vector2d> directions(core::ProgramContext& ctx, const Eigen::Vector2d& at,
+                                          const Eigen::Vector2d& away) const {
+    std::vector<Eigen::Vector2d> ways;
+    for (const int turn : {0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6}) {
+      if (!from_.empty() && std::abs(turn) > 3) break;
+      ways.push_back(Eigen::Rotation2Dd(turn * M_PI / 6) * away);
+    }
+    if (!from_.empty()) return ways;
+    const std::vector<Eigen::Vector3d> points = base_and_hands(ctx, at);
+    const std::vector<const core::PerceivedObject*> surfaces = ctx.percepts().of_type("surface");
+    std::vector<std::pair<double, size_t>> order;  // (-clearance in mm, index)
+    for (size_t i = 0; i < ways.size(); ++i) {
+      double clearance = std::numeric_limits<double>::infinity();
+      for (const core::PerceivedObject* s : surfaces) {
+        clearance = std::min(clearance, distance_to(*s, points, distance_ * ways[i]));
+      }
+      order.emplace_back(-std::round(clearance * 1000), i);
+    }
+    std::sort(order.begin(), order.end());
+    std::vector<Eigen::Vector2d> sorted;
+    for (const auto& [clearance, i] : order) sorted.push_back(ways[i]);
+    return sorted;
   }
 
   static constexpr int kPlans = 3;
   static constexpr double kStraightCheck = 0.01;  // m between the straight step's checks
   static constexpr double kNear = 0.02;           // m: a hand this close to something withdraws
   static constexpr double kWithdrawal = 0.08;     // m, how far a hand withdraws first
+  static constexpr double kOverTop = 0.3;  // m over a top above which a hand does not meet it
 
   std::string part_, from_, side_;
   bool up_ = false;  // part hand: straight up rather than back
@@ -301,7 +361,7 @@ core::ProgramType retreat_program() {
             false,
             std::string(),
             {},
-            "the surface or object to step away from (base; default: the nearest surface), or "
+            "the surface or object to step away from (base; default: every surface), or "
             "the object the hand withdraws from, which it may brush (hand; side any: the hand "
             "nearest it)"},
            {"distance", ParamType::kNumber, false, 0.2, {}, "how far, m"},

@@ -107,6 +107,91 @@ TEST_F(ConditionsTest, PlacementsDrawnFromAboveAndNearSatisfyBoth) {
   EXPECT_TRUE(sample_placements(*impossible, world(), "cup", rng, 5, 100).empty());
 }
 
+// A table 0.7 x 1.2 m turned 20 degrees about the vertical, its top at 0.65 m: its
+// world-aligned box reaches 0.53 m and 0.68 m from its centre, its corners lie beside the table.
+PerceivedObject turned_table(const std::string& id, const Eigen::Vector2d& centre) {
+  PerceivedObject t;
+  t.id = id;
+  t.type = "surface";
+  t.pose.position = Eigen::Vector3d(centre.x(), centre.y(), 0.65);
+  t.pose.orientation = Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitZ());
+  t.top = Eigen::AlignedBox2d(Eigen::Vector2d(-0.35, -0.6), Eigen::Vector2d(0.35, 0.6));
+  const SurfaceTop top = surface_top(t.box, t.pose, t.top);
+  for (int corner = 0; corner < 4; ++corner) {
+    const Eigen::Vector2d p =
+        top.world({corner & 1 ? top.hi.x() : top.lo.x(), corner & 2 ? top.hi.y() : top.lo.y()});
+    t.box.extend(Eigen::Vector3d(p.x(), p.y(), 0.61));
+    t.box.extend(Eigen::Vector3d(p.x(), p.y(), 0.65));
+  }
+  return t;
+}
+
+TEST(SurfaceTopOfATurnedTable, IsTheTurnedRectangleNotItsWorldAlignedBox) {
+  const PerceivedObject table = turned_table("table", {3, 0});
+  const SurfaceTop top = surface_top(table);
+  ASSERT_TRUE(top.turned());
+  EXPECT_NEAR(top.height, 0.65, 1e-12);
+  EXPECT_NEAR(top.signed_distance({3, 0}), -0.35, 1e-9);  // the centre, 35 cm from the long edge
+  // A corner of the world-aligned box lies more than 10 cm beside the table; the table's own
+  // corner on its edge.
+  const Eigen::Vector2d box_corner = table.box.max().head<2>();
+  EXPECT_GT(top.signed_distance(box_corner), 0.1);
+  EXPECT_NEAR(top.signed_distance(top.world(top.hi)), 0, 1e-9);
+  EXPECT_NEAR((top.nearest(box_corner) - box_corner).norm(), top.signed_distance(box_corner), 1e-9);
+  // A 6 cm footprint at the box's corner is not over the table; one at its centre is.
+  const Eigen::Vector2d cup(0.03, 0.03);
+  EXPECT_FALSE(top.overlaps(box_corner - 2 * cup, box_corner));
+  EXPECT_TRUE(top.overlaps(Eigen::Vector2d(3, 0) - cup, Eigen::Vector2d(3, 0) + cup));
+  // The largest world-aligned rectangle inside it lies inside it, and is no sliver.
+  const Eigen::AlignedBox2d inside = top.inscribed();
+  for (int corner = 0; corner < 4; ++corner) {
+    EXPECT_LE(
+        top.signed_distance(inside.corner(static_cast<Eigen::AlignedBox2d::CornerType>(corner))),
+        1e-9);
+  }
+  EXPECT_GT(inside.volume(), 0.5 * 0.7 * 1.2 * 0.5);
+}
+
+TEST(SurfaceTopOfATableNotTurned, IsItsBoxExactly) {
+  PerceivedObject desk = box_object("desk", {0.3, -0.6, 0.61}, {1.0, 0.6, 0.65});
+  desk.type = "surface";
+  desk.top = Eigen::AlignedBox2d(Eigen::Vector2d(-0.35, -0.6), Eigen::Vector2d(0.35, 0.6));
+  const SurfaceTop top = surface_top(desk);
+  EXPECT_FALSE(top.turned());
+  EXPECT_EQ(top.lo, desk.box.min().head<2>());
+  EXPECT_EQ(top.hi, desk.box.max().head<2>());
+  EXPECT_EQ(top.height, desk.box.max().z());
+  EXPECT_EQ(top.inscribed().min(), top.lo);
+  EXPECT_EQ(top.local(Eigen::Vector2d(0.1, 0.2)), Eigen::Vector2d(0.1, 0.2));
+}
+
+// Placements on a table turned in its room: drawn on the table, not in the corners of its
+// world-aligned box, where a cup set down falls to the floor; and above() does not hold for a
+// cup standing there.
+TEST_F(ConditionsTest, PlacementsOnATurnedTableLieOnIt) {
+  percepts_.observe(turned_table("turned_table", {3, 0}));
+  const SurfaceTop top = surface_top(*percepts_.find("turned_table"));
+  std::mt19937_64 rng(4);
+  const std::vector<Eigen::AlignedBox3d> boxes =
+      sample_placements(*above("cup", "turned_table"), world(), "cup", rng, 40);
+  ASSERT_EQ(boxes.size(), 40u);
+  for (const Eigen::AlignedBox3d& b : boxes) {
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector2d c(k & 1 ? b.max().x() : b.min().x(), k & 2 ? b.max().y() : b.min().y());
+      EXPECT_LE(top.signed_distance(c), 1e-9) << "a corner of the cup's box off the table";
+    }
+    EXPECT_NEAR(b.min().z(), 0.65, 1e-9);
+  }
+  const Eigen::Vector3d cup = percepts_.find("cup")->box.sizes();
+  const Eigen::Vector3d corner = percepts_.find("turned_table")->box.max();
+  const Hypothesis in_the_corner{
+      "cup", Eigen::AlignedBox3d(Eigen::Vector3d(corner.x() - cup.x(), corner.y() - cup.y(), 0.65),
+                                 Eigen::Vector3d(corner.x(), corner.y(), 0.65 + cup.z()))};
+  EXPECT_FALSE(above("cup", "turned_table")->holds(world(), &in_the_corner));
+  const Hypothesis on_it{"cup", boxes.front()};
+  EXPECT_TRUE(above("cup", "turned_table")->holds(world(), &on_it));
+}
+
 TEST_F(ConditionsTest, TextFormParsesAndEvaluatesLikeTheCalls) {
   const ConditionPtr c = parse_condition(
       "all_of(above(cup, work_surface), near(cup, work_surface, 0.1), "
