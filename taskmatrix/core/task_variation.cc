@@ -173,8 +173,8 @@ TaskVariation draw_variation(const VariationOptions& options, const WorldGeometr
                        }) &&
            std::all_of(surface.area.keep_out.begin(), surface.area.keep_out.end(),
                        [&](const Rect2& k) {
-             return distance_to_rect(x, y, k) >= r + options.clearance_m;
-           });
+                         return distance_to_rect(x, y, k) >= r + options.clearance_m;
+                       });
       drawn = {p.object, p.surface, x, y, surface.height + obj.below + kRestGapM, yaw};
     }
     if (!ok) {

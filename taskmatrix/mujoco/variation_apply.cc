@@ -119,10 +119,10 @@ void Scene::index_variations() {
       const core::SurfaceTop turned = core::surface_top(top, frame, surface_top_extent(m, d, body));
       const Eigen::AlignedBox2d inside = turned.inscribed();
       if (turned.turned()) {
-        s.turned = core::TurnedArea{
-            turned.cos, turned.sin,
-            core::Rect2{turned.lo.x() + kAreaMargin, turned.hi.x() - kAreaMargin,
-                        turned.lo.y() + kAreaMargin, turned.hi.y() - kAreaMargin}};
+        s.turned =
+            core::TurnedArea{turned.cos, turned.sin,
+                             core::Rect2{turned.lo.x() + kAreaMargin, turned.hi.x() - kAreaMargin,
+                                         turned.lo.y() + kAreaMargin, turned.hi.y() - kAreaMargin}};
       }
       s.area.name = name;
       s.area.x_min = inside.min().x() + kAreaMargin;
