@@ -120,7 +120,10 @@ class Retreat final : public core::TaskProgram {
     const std::vector<double> base = skills.configuration({"base"});
     const Eigen::Vector2d at(base[0], base[1]);
     stepped_from_ = at;
-    const core::PerceivedObject* from = away_from(ctx, at);
+    // Without `from`: where the base and the hands are, what every surface is measured against.
+    const std::vector<Eigen::Vector3d> points =
+        from_.empty() ? base_and_hands(ctx, at) : std::vector<Eigen::Vector3d>{};
+    const core::PerceivedObject* from = away_from(ctx, points);
     if (!from) {
       return from_.empty()
                  ? core::Failure(core::FailureCode::kPerceptionMiss, "no surface is known")
@@ -154,7 +157,7 @@ class Retreat final : public core::TaskProgram {
     for (const char* side : {"left", "right"}) motion_.allow_touching(touched_by_arm(ctx, side));
 
     const core::ChainInfo& chain = skills.chain("base");
-    const std::vector<Eigen::Vector2d> ways = directions(ctx, at, away);
+    const std::vector<Eigen::Vector2d> ways = directions(ctx, points, away);
     std::vector<std::vector<double>> goals;  // collision-free, in the order of `ways`
     for (const Eigen::Vector2d& way : ways) {
       std::vector<double> goal = base;
@@ -250,10 +253,10 @@ class Retreat final : public core::TaskProgram {
     return chains;
   }
 
-  // `from`, or the surface nearest to the base or a hand.
-  const core::PerceivedObject* away_from(core::ProgramContext& ctx, const Eigen::Vector2d& at) {
+  // `from`, or the surface nearest to `points` (base_and_hands).
+  const core::PerceivedObject* away_from(core::ProgramContext& ctx,
+                                         const std::vector<Eigen::Vector3d>& points) {
     if (!from_.empty()) return ctx.percepts().find(from_);
-    const std::vector<Eigen::Vector3d> points = base_and_hands(ctx, at);
     const core::PerceivedObject* best = nullptr;
     double best_d = std::numeric_limits<double>::infinity();
     for (const core::PerceivedObject* s : ctx.percepts().of_type("surface")) {
@@ -303,7 +306,8 @@ class Retreat final : public core::TaskProgram {
   // 12 directions 30 degrees apart, ordered by the clearance the step leaves, seen from above,
   // between the base and the hands and the nearest surface to them (to the millimetre; ties
   // nearest straight away from the nearest surface first).
-  std::vector<Eigen::Vector2d> directions(core::ProgramContext& ctx, const Eigen::Vector2d& at,
+  std::vector<Eigen::Vector2d> directions(core::ProgramContext& ctx,
+                                          const std::vector<Eigen::Vector3d>& points,
                                           const Eigen::Vector2d& away) const {
     std::vector<Eigen::Vector2d> ways;
     for (const int turn : {0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6}) {
@@ -311,7 +315,6 @@ class Retreat final : public core::TaskProgram {
       ways.push_back(Eigen::Rotation2Dd(turn * M_PI / 6) * away);
     }
     if (!from_.empty()) return ways;
-    const std::vector<Eigen::Vector3d> points = base_and_hands(ctx, at);
     const std::vector<const core::PerceivedObject*> surfaces = ctx.percepts().of_type("surface");
     std::vector<std::pair<double, size_t>> order;  // (-clearance in mm, index)
     for (size_t i = 0; i < ways.size(); ++i) {
