@@ -20,6 +20,7 @@ nlohmann::json variation_json(const core::TaskVariation& v) {
   if (v.robot_start) {
     j["robot_start"] = {
         {"x", v.robot_start->x}, {"y", v.robot_start->y}, {"yaw", v.robot_start->yaw}};
+    if (v.start_draw > 0) j["robot_start"]["draw"] = v.start_draw;
   }
   return j;
 }
@@ -41,6 +42,7 @@ core::TaskVariation variation_from_json(const nlohmann::json& j) {
   if (const auto r = j.find("robot_start"); r != j.end()) {
     v.robot_start = core::RobotStart{r->at("x").get<double>(), r->at("y").get<double>(),
                                      r->at("yaw").get<double>()};
+    v.start_draw = r->value("draw", 0);
   }
   return v;
 }

@@ -22,6 +22,16 @@ double draw(UniformDraws& rng, const ValueRange& r) {
   return r.min == r.max ? r.min : rng.in(r.min, r.max);
 }
 
+// The k-th draw of the start: the first from the layout seed's start stream, later ones from
+// streams derived from it.
+RobotStart draw_start(const RobotStartOptions& r, const RobotStart& start, std::uint64_t seed,
+                      int k) {
+  const std::uint64_t stream = stream_seed(seed, kStartStream);
+  UniformDraws rng(k == 0 ? stream : stream_seed(stream, static_cast<std::uint64_t>(k)));
+  const double dx = draw(rng, r.x_m), dy = draw(rng, r.y_m), dyaw = draw(rng, r.yaw_rad);
+  return RobotStart{start.x + dx, start.y + dy, start.yaw + dyaw};
+}
+
 std::string known_names(const WorldGeometry& world, bool surfaces) {
   std::string out;
   if (surfaces) {
@@ -96,9 +106,7 @@ TaskVariation draw_variation(const VariationOptions& options, const WorldGeometr
     check_range(r.x_m, "robot_start.x", "m");
     check_range(r.y_m, "robot_start.y", "m");
     check_range(r.yaw_rad, "robot_start.yaw", "rad");
-    UniformDraws rng(stream_seed(seed, kStartStream));
-    const double dx = draw(rng, r.x_m), dy = draw(rng, r.y_m), dyaw = draw(rng, r.yaw_rad);
-    out.robot_start = RobotStart{world.start.x + dx, world.start.y + dy, world.start.yaw + dyaw};
+    out.robot_start = draw_start(r, world.start, seed, 0);
   }
   if (!options.surfaces.empty()) {
     UniformDraws rng(stream_seed(seed, kSurfaceStream));
@@ -192,13 +200,24 @@ TaskVariation draw_variation(const VariationOptions& options, const WorldGeometr
 
 TrialLayout draw_world(const VariationOptions& options, const WorldGeometry& world,
                        const std::function<LayoutRequest(const TaskVariation&)>& request,
-                       std::uint64_t seed) {
+                       std::uint64_t seed, const StartCheck& start_clear) {
   for (int draw = 0;; ++draw) {
     const std::uint64_t s = draw == 0 ? seed : stream_seed(seed, 0x1000 + draw);
     try {
       TrialLayout out;
       out.draw = draw;
       out.variation = draw_variation(options, world, s);
+      if (options.robot_start && start_clear) {
+        TaskVariation& v = out.variation;
+        while (const std::optional<std::string> why = start_clear(v)) {
+          if (v.start_draw + 1 >= kStartDraws) {
+            throw VariationError(
+                "robot_start", "no start drawn in its ranges leaves the robot clear (" +
+                                   std::to_string(kStartDraws) + " draws; the last: " + *why + ")");
+          }
+          v.robot_start = draw_start(*options.robot_start, world.start, s, ++v.start_draw);
+        }
+      }
       out.obstacles = generate_layout(request(out.variation), s);
       out.obstacles.seed = seed;
       return out;

@@ -132,6 +132,7 @@ struct TaskVariation {
   std::vector<SurfaceDraw> surfaces;
   std::vector<ObjectDraw> objects;
   std::optional<RobotStart> robot_start;  // the drawn pose (absolute)
+  int start_draw = 0;  // which draw of the start it is (0: the first; draw_world redraws it)
   bool empty() const { return surfaces.empty() && objects.empty() && !robot_start; }
   const SurfaceDraw* surface(const std::string& name) const;
   const ObjectDraw* object(const std::string& name) const;
@@ -152,14 +153,24 @@ class VariationError : public LayoutError {
 };
 
 inline constexpr int kWorldDraws = 20;
+inline constexpr int kStartDraws = 50;
+
+// What the robot, in its start posture at the variation's drawn start, touches in the world
+// the variation leaves (its surfaces and objects; obstacles come after and keep clear of the
+// start): a reason ("l_index touches table_top (depth 1.8 mm)"), or nullopt when it is clear.
+using StartCheck = std::function<std::optional<std::string>(const TaskVariation&)>;
 
 // The variation, then the obstacles of `request(variation)`; drawn again from derived seeds
 // while they are crowded (LayoutError::crowded), at most kWorldDraws times. The first draw
 // uses `seed` itself, so a scenario whose world fits at once draws what it drew before.
+// With a varied `robot_start` and a `start_clear` check, a start at which the robot touches
+// the varied world is drawn again (its own derived stream: surfaces and objects stay), at most
+// kStartDraws times, before the obstacles are placed; the last start's reason is a
+// VariationError of `robot_start`. A robot clear at its first draw draws what it drew before.
 // Throws the last draw's LayoutError, or at once one that is not about crowding.
 TrialLayout draw_world(const VariationOptions& options, const WorldGeometry& world,
                        const std::function<LayoutRequest(const TaskVariation&)>& request,
-                       std::uint64_t seed);
+                       std::uint64_t seed, const StartCheck& start_clear = {});
 
 // Checks the options against the geometry (names and kinds, ranges) and draws. Throws
 // VariationError.

@@ -1,5 +1,7 @@
 #include "taskmatrix/mujoco/mujoco_backend.h"
 
+#include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 #include "taskmatrix/mujoco/ground_truth_perception.h"
@@ -63,12 +65,33 @@ MujocoLoadedScene::MujocoLoadedScene(std::shared_ptr<const Scene> scene)
 core::TrialLayout MujocoLoadedScene::make_trial_layout(const core::ObstacleOptions& obstacles,
                                                        const core::VariationOptions& variation,
                                                        std::uint64_t seed) const {
-  return scene_->make_trial_layout(obstacles, variation, seed);
+  // A drawn start is clear when the robot, at rest there, touches nothing of the varied world
+  // (the rule start_contacts applies to the whole layout).
+  auto start_clear = [&](const core::TaskVariation& v) -> std::optional<std::string> {
+    core::TrialLayout probe;
+    probe.variation = v;
+    const std::lock_guard<std::mutex> lock(probe_mutex_);
+    const core::StartContact* deepest = nullptr;
+    const std::vector<core::StartContact> contacts = contacts_at_start(probe);
+    for (const core::StartContact& c : contacts) {
+      if (c.robot && (!deepest || c.depth_m > deepest->depth_m)) deepest = &c;
+    }
+    if (!deepest) return std::nullopt;
+    char depth[32];
+    std::snprintf(depth, sizeof depth, "%.1f", deepest->depth_m * 1000);
+    return deepest->first + " touches " + deepest->second + " (depth " + depth + " mm)";
+  };
+  return scene_->make_trial_layout(obstacles, variation, seed, start_clear);
 }
 
 std::vector<core::StartContact> MujocoLoadedScene::start_contacts(
     const core::TrialLayout& layout) const {
   const std::lock_guard<std::mutex> lock(probe_mutex_);
+  return contacts_at_start(layout);
+}
+
+std::vector<core::StartContact> MujocoLoadedScene::contacts_at_start(
+    const core::TrialLayout& layout) const {
   if (!probe_) probe_ = std::make_unique<WorkerScene>(scene_);
   WorkerScene& worker = *probe_;
   worker.apply(layout);

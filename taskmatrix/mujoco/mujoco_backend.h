@@ -45,9 +45,13 @@ class MujocoLoadedScene final : public core::LoadedScene {
   const std::shared_ptr<const Scene>& scene() const { return scene_; }
 
  private:
+  // start_contacts without the lock.
+  std::vector<core::StartContact> contacts_at_start(const core::TrialLayout& layout) const;
+
   std::shared_ptr<const Scene> scene_;
-  // One worker copy of the model for start_contacts, made at the first call and reused (a
-  // layout applies from the compiled model each time), as a run checks every trial's layout.
+  // One worker copy of the model for start_contacts and make_trial_layout's check of a drawn
+  // start, made at the first call and reused (a layout applies from the compiled model each
+  // time), as a run checks every trial's layout.
   mutable std::mutex probe_mutex_;
   mutable std::unique_ptr<WorkerScene> probe_;
 };

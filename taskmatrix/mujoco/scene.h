@@ -130,9 +130,11 @@ class Scene {
   // Draws the variation, then the obstacles in the world it leaves. Throws
   // core::LayoutError with a key (of the scenario's variation or targeted obstacles at fault)
   // or core::InputError (the environment's regions cannot hold the random obstacles).
+  // `start_clear` redraws a varied start the robot would begin in contact at
+  // (core::draw_world).
   core::TrialLayout make_trial_layout(const core::ObstacleOptions& obstacles,
-                                      const core::VariationOptions& variation,
-                                      std::uint64_t seed) const;
+                                      const core::VariationOptions& variation, std::uint64_t seed,
+                                      const core::StartCheck& start_clear = {}) const;
 
  private:
   Scene() = default;

@@ -1,8 +1,9 @@
 // Collision verdicts for robot configurations: is the robot touching anything (itself, the
 // world, obstacles, objects) at this configuration?
 //
-// `raw_robot_in_collision` is the reference: mj_kinematics + mj_collision on the whole model,
-// then "any contact with a robot geom". `ValidityChecker` gives the same verdicts faster:
+// `reference_robot_in_collision` is the reference: mj_kinematics + mj_collision on the whole
+// model, the contacts MuJoCo's capsule-box function misses added (a capsule's axis inside a
+// box), then "any contact with a robot geom". `ValidityChecker` gives the same verdicts faster:
 //   - it knows which joints a query may move (the planned chains) and recomputes the poses
 //     of only the bodies those joints move (hinge and slide joints, MuJoCo's own formulas);
 //   - it tests only geom pairs that can change: at least one geom moved by those joints, the
@@ -10,7 +11,7 @@
 //     pairs that cannot change are checked once, when the checker is bound to a state;
 //   - a bounding-sphere test first, MuJoCo's narrow-phase function second, and it stops at
 //     the first contact.
-// Verdicts are identical to the raw check; a test compares them on 100,000 configurations.
+// Verdicts are identical to the reference; a test compares them on 100,000 configurations.
 // Asked to (keep_off_visitor_route), it also counts the visitor's route as taken, which the raw
 // check knows nothing of.
 #pragma once
@@ -58,17 +59,26 @@ bool counts_as_robot_collision(const Scene& scene, const mjModel* m, const mjCon
 // bits first, then bounding spheres (as MuJoCo's mj_collideGeoms), then, for a box, the other
 // geom's bounding sphere against the box itself, then MuJoCo's narrow-phase function (a
 // box-box pair's contacts no deeper than the boxes overlap along their normal: MuJoCo 2.2.2's
-// box-box function reports phantom depths, correct_box_box_contacts in the .cc). Returns
+// box-box function reports phantom depths, correct_box_box_contacts in the .cc; a capsule-box
+// pair's contact where MuJoCo reports none but the capsule's axis passes into the box,
+// capsule_through_box in the .cc). Returns
 // the number of contacts written to `out` (room for mjMAXCONPAIR), with their geom ids set;
 // `narrow_calls`, if given, counts the narrow-phase calls.
 int collide_geoms(const mjModel* m, mjData* d, const GeomPair& p, double margin, mjContact* out,
                   std::uint64_t* narrow_calls = nullptr);
 
-// Reference check on the worker's full model and data: runs mj_kinematics and
-// mj_collision with data->qpos as it is.
+// MuJoCo's own check on the worker's full model and data: runs mj_kinematics and
+// mj_collision with data->qpos as it is (the raw baseline of the benchmarks).
 // With attachments, their objects are first moved to their holders (mj_kinematics twice).
 bool raw_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
                             const std::vector<Attachment>& attachments = {});
+
+// The reference the checker's verdicts equal: raw_robot_in_collision, and a robot capsule
+// whose axis passes into a box counts as touching it (MuJoCo 2.2.2's capsule-box function
+// misses many such poses; collide_geoms adds the contact). describe_robot_contacts lists the
+// same contacts.
+bool reference_robot_in_collision(const Scene& scene, const mjModel* m, mjData* d,
+                                  const std::vector<Attachment>& attachments = {});
 
 // The berth plans keep from the visitor's route beyond the visitor's own radius (m): a person
 // walks it back and forth, and a plan made while they are elsewhere on it must not put the

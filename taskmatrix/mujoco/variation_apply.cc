@@ -263,7 +263,8 @@ core::LayoutRequest Scene::layout_request(const core::ObstacleOptions& options,
 
 core::TrialLayout Scene::make_trial_layout(const core::ObstacleOptions& obstacles,
                                            const core::VariationOptions& variation,
-                                           std::uint64_t seed) const {
+                                           std::uint64_t seed,
+                                           const core::StartCheck& start_clear) const {
   // A height the surface cannot take is an input error whatever the draw.
   for (const core::SurfaceHeightOptions& s : variation.surfaces) {
     const auto rig = std::find_if(surface_rigs_.begin(), surface_rigs_.end(),
@@ -285,7 +286,8 @@ core::TrialLayout Scene::make_trial_layout(const core::ObstacleOptions& obstacle
   try {
     return core::draw_world(
         variation, world_,
-        [&](const core::TaskVariation& v) { return layout_request(obstacles, v); }, seed);
+        [&](const core::TaskVariation& v) { return layout_request(obstacles, v); }, seed,
+        start_clear);
   } catch (const core::LayoutError& e) {
     if (!e.key().empty()) throw;  // a scenario key's (a variation's, a group's)
     throw InputError(environment_.spec_file.string(), "obstacle_regions", e.what());

@@ -313,7 +313,12 @@ core::PlannerResult OmplPlanner::solve(const core::PlanningProblem& p) {
 
   if (status == ob::PlannerStatus::APPROXIMATE_SOLUTION) {
     result.status = core::PlannerStatus::kApproximateSolution;
-    result.message = "OMPL found only an approximate solution";
+    // How near it came: the joint-space distance (rad, and m for slide joints) from the end of
+    // its best path to the nearest goal.
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " (its path ends %.3f from the nearest of %zu goals)",
+                  pdef->getSolutionDifference(), p.goals.size());
+    result.message = std::string("OMPL found only an approximate solution") + buf;
   } else if (status == ob::PlannerStatus::EXACT_SOLUTION) {
     result.status = core::PlannerStatus::kExactSolution;
   } else if (status == ob::PlannerStatus::TIMEOUT || status == ob::PlannerStatus::UNKNOWN) {

@@ -169,6 +169,77 @@ TEST(TaskVariation, ObjectsAndObstaclesMoveWithTheSurface) {
   EXPECT_DOUBLE_EQ(v.surface("side_surface")->height, 0.68);
 }
 
+// A start at which the robot would touch the world (the check says so) is drawn again from the
+// start's own stream: surfaces and objects stay as drawn, the obstacles keep clear of the start
+// finally drawn, the record says which draw it is, and the same seed redraws alike. A start
+// clear at once is the first draw, as without a check. No start in kStartDraws draws is
+// `robot_start`'s error, with the last reason.
+TEST(TaskVariation, AStartTheRobotWouldTouchTheWorldFromIsDrawnAgain) {
+  const WorldGeometry w = room();
+  const VariationOptions v = everything();
+  LayoutRequest seen;
+  auto request = [&](const TaskVariation& t) {
+    const WorldGeometry world = varied(w, t);
+    LayoutRequest req;
+    req.protected_disks = {{world.start.x, world.start.y, 0.6}};
+    seen = req;
+    return req;
+  };
+  for (std::uint64_t seed = 0; seed < 50; ++seed) {
+    const TrialLayout plain = draw_world(v, w, request, seed);
+    ASSERT_EQ(plain.variation.start_draw, 0);
+    // Clear at once: the first draw.
+    const TrialLayout clear =
+        draw_world(v, w, request, seed, [](const TaskVariation&) { return std::nullopt; });
+    expect_same(plain.variation, clear.variation);
+    EXPECT_EQ(clear.variation.start_draw, 0);
+    // Clear only at starts forward of the environment's: drawn again until one is.
+    int checks = 0;
+    const StartCheck forward = [&](const TaskVariation& t) -> std::optional<std::string> {
+      ++checks;
+      if (t.robot_start->x > 0.02) return std::nullopt;
+      return std::string("l_finger touches table_top (depth 1.8 mm)");
+    };
+    const TrialLayout redrawn = draw_world(v, w, request, seed, forward);
+    const TaskVariation& r = redrawn.variation;
+    ASSERT_GT(r.robot_start->x, 0.02) << "seed " << seed;
+    EXPECT_EQ(r.start_draw, checks - 1);
+    EXPECT_EQ(r.start_draw == 0, plain.variation.robot_start->x > 0.02);
+    ASSERT_EQ(r.objects.size(), plain.variation.objects.size());
+    for (size_t i = 0; i < r.objects.size(); ++i) {
+      EXPECT_EQ(r.objects[i].x, plain.variation.objects[i].x);
+      EXPECT_EQ(r.objects[i].y, plain.variation.objects[i].y);
+    }
+    EXPECT_EQ(r.surfaces[0].height_m, plain.variation.surfaces[0].height_m);
+    EXPECT_EQ(seen.protected_disks[0].x, r.robot_start->x);
+    EXPECT_EQ(seen.protected_disks[0].y, r.robot_start->y);
+    EXPECT_GE(r.robot_start->x, -0.05);
+    EXPECT_LE(r.robot_start->x, 0.05);
+    EXPECT_LE(std::abs(r.robot_start->y), 0.1);
+    expect_same(r, draw_world(v, w, request, seed, forward).variation);
+  }
+  try {
+    draw_world(v, w, request, 7, [](const TaskVariation&) {
+      return std::optional<std::string>("l_finger touches table_top (depth 1.8 mm)");
+    });
+    FAIL() << "no start is ever clear";
+  } catch (const VariationError& e) {
+    EXPECT_EQ(e.key(), "robot_start");
+    EXPECT_NE(std::string(e.what()).find(std::to_string(kStartDraws) + " draws"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("l_finger touches table_top"), std::string::npos);
+  }
+  // Without a varied start there is nothing to draw again: the check is not asked.
+  VariationOptions fixed = v;
+  fixed.robot_start.reset();
+  int asked = 0;
+  draw_world(fixed, w, request, 3, [&](const TaskVariation&) {
+    ++asked;
+    return std::optional<std::string>("anything");
+  });
+  EXPECT_EQ(asked, 0);
+}
+
 TEST(TargetedObstacles, NearObstaclesSurroundTheDrawnObjectAndNeverTouchIt) {
   const WorldGeometry w = room();
   const VariationOptions v = everything();
