@@ -141,6 +141,19 @@ void add_turned_kitchen(const ScratchRoot& root) {
   root.replace(yaml, "  - {name: table_top, x: [0.36, 0.94], y: [-0.54, 0.54], z: 0.65}\n", "");
 }
 
+void add_kitchen_counter_behind(const ScratchRoot& root) {
+  const std::filesystem::path environments = root.path() / "models" / "environments";
+  std::filesystem::copy(environments / "kitchen", environments / "kitchen_behind",
+                        std::filesystem::copy_options::recursive);
+  root.replace("models/environments/kitchen_behind/kitchen.xml",
+               "<body name=\"counter\" pos=\"-0.05 0.775 0.68\">",
+               "<body name=\"counter\" pos=\"-1.0 0.2 0.68\" quat=\"0.707107 0 0 0.707107\">");
+  const std::string yaml = "models/environments/kitchen_behind/environment.yaml";
+  root.replace(yaml, "name: kitchen\n", "name: kitchen_behind\n");
+  root.replace(yaml, "{x: [-0.37, 0.27], y: [0.53, 1.02], regions: [floor]}",
+               "{x: [-1.25, -0.75], y: [-0.12, 0.52], regions: [floor]}");
+}
+
 std::optional<std::string> known_mode_difference(const std::string& program,
                                                  const std::string& robot) {
   if (robot != "minibot") return std::nullopt;

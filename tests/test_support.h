@@ -76,4 +76,10 @@ class ScratchRoot {
 // on the table, so objects and obstacles go where its own rectangle says.
 void add_turned_kitchen(const ScratchRoot& root);
 
+// Adds to `root` another room the programs were not written for: the kitchen with its counter
+// (side_surface) behind the robot instead of to its left, its front facing the robot's back
+// (centre at x -1.0, y 0.2), as models/environments/kitchen_behind. What is put down there
+// needs the robot to turn round and walk to it.
+void add_kitchen_counter_behind(const ScratchRoot& root);
+
 }  // namespace taskmatrix::test

@@ -125,9 +125,29 @@ std::optional<ExecutionReport> TrajectoryFollower::step() {
                   report_.collision ? "touched on the way: " + collision_pair() : "");
   }
   if (skills_.time() >= settle_until_ - 1e-12) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "%.4f from the goal after %.2f s of settling",
-                  report_.final_error, options_.settle_time_s);
+    // The joint furthest from its goal, by name, with where it is and where it was sent.
+    const std::vector<double> q = skills_.configuration(chains_);
+    size_t worst = 0;
+    for (size_t i = 0; i < q.size(); ++i) {
+      const double e = std::abs(q[i] - motion_.goal[static_cast<Eigen::Index>(i)]);
+      if (e > std::abs(q[worst] - motion_.goal[static_cast<Eigen::Index>(worst)])) worst = i;
+    }
+    std::string joint;
+    size_t offset = 0;
+    for (const std::string& c : chains_) {
+      const std::vector<std::string>& names = skills_.chain(c).joints;
+      if (worst < offset + names.size()) {
+        joint = names[worst - offset];
+        break;
+      }
+      offset += names.size();
+    }
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "%.4f from the goal after %.2f s of settling (joint '%s' at %.4f, sent to %.4f)",
+                  report_.final_error, options_.settle_time_s, joint.c_str(),
+                  q.empty() ? 0.0 : q[worst],
+                  q.empty() ? 0.0 : motion_.goal[static_cast<Eigen::Index>(worst)]);
     return finish(ExecutionStatus::kTrackingError, buf);
   }
   return std::nullopt;

@@ -173,6 +173,9 @@ namespace {
 
 constexpr double kEscapeMaxJointStep = 0.3;       // rad (or m) per escape step
 constexpr double kEscapeMaxPalmDeviation = 0.01;  // m, halfway through an escape step
+// How much deeper than at its start an escape step may press into what the start touches (m):
+// what it touches is rigid, and physics holds the arm where it meets it.
+constexpr double kEscapeDeeperM = 0.001;
 
 }  // namespace
 
@@ -268,13 +271,22 @@ std::optional<Escape> escape_with(core::ProgramContext& ctx, const core::HandSpe
   std::vector<std::vector<double>> path = {from};
   // IK does not keep the arm off the robot or the world: where the start touches nothing but
   // `touched`, a step (and the middle of the way to it) that touches anything else, the
-  // robot's own body included (a forearm swung into the torso), is no escape.
+  // robot's own body included (a forearm swung into the torso), is no escape; nor is one that
+  // presses deeper into what the start touches (an upper arm resting on the torso, pushed
+  // 2.5 mm further in by a lift: physics stops it there, 13 mrad short of the step).
   const bool judged = skills.is_valid(chains, from, touched);
+  // (Signed distances capped at kEscapeDeeperM: only how deep matters.)
+  const double deepest_allowed =
+      judged ? std::min(0.0, skills.clearance(chains, from, kEscapeDeeperM)) - kEscapeDeeperM : 0.0;
+  auto clear_at = [&](const std::vector<double>& q) {
+    return skills.is_valid(chains, q, touched) &&
+           skills.clearance(chains, q, kEscapeDeeperM) >= deepest_allowed;
+  };
   auto clear_step = [&](const std::vector<double>& q) {
     if (!judged) return true;
     std::vector<double> middle(q.size());
     for (size_t i = 0; i < q.size(); ++i) middle[i] = 0.5 * (q[i] + path.back()[i]);
-    return skills.is_valid(chains, middle, touched) && skills.is_valid(chains, q, touched);
+    return clear_at(middle) && clear_at(q);
   };
   // Each step moves the palm a few centimetres along `direction`: a solution that turns a joint
   // farther than kEscapeMaxJointStep, or whose straight motion from the step before carries the

@@ -407,6 +407,40 @@ TEST_P(SkillsetOnBothRobots, QueriesNeverDisturbTheSimulation) {
   EXPECT_EQ(skills().time(), t);
 }
 
+// The left hand sent 1.5 cm down into the table (touching it allowed, no stop on contact): the
+// table stops the arm short of its goal, and the tracking error names the joint furthest from
+// where it was sent, where it is and where it was sent.
+TEST_P(SkillsetOnBothRobots, ATrackingErrorNamesTheJointThatFellShort) {
+  const Chains chains = {"torso", "left_arm"};
+  const std::string palm = skills().profile().find_hand("left")->palm;
+  core::Pose target = skills().frame_pose("cup");
+  target.orientation = skills().frame_pose(palm).orientation;
+  target.position.z() -= 0.065;  // the cup's centre is 5 cm above the top
+  core::IkOptions ik;
+  ik.collision_free = false;
+  ik.orientation = false;
+  ik.restarts = 60;
+  const core::IkResult r = skills().solve_ik(chains, palm, target, ik);
+  ASSERT_FALSE(r.solutions.empty()) << r.reason;
+  const core::Trajectory trajectory = skills().time_parameterize(
+      chains, {skills().configuration(chains), r.solutions.front()}, 0.5);
+  core::ExecutionOptions options;
+  options.stop_on_collision = false;
+  options.may_touch = {"work_surface", "cup"};
+  const core::ExecutionReport report = skills().execute(chains, trajectory, options);
+  ASSERT_EQ(report.status, core::ExecutionStatus::kTrackingError) << report.message;
+  const std::vector<std::string>& torso = skills().chain("torso").joints;
+  const std::vector<std::string>& arm = skills().chain("left_arm").joints;
+  bool named = false;
+  for (const std::vector<std::string>* joints : {&torso, &arm}) {
+    for (const std::string& j : *joints) {
+      named = named || report.message.find("(joint '" + j + "' at ") != std::string::npos;
+    }
+  }
+  EXPECT_TRUE(named) << report.message;
+  EXPECT_NE(report.message.find(", sent to "), std::string::npos) << report.message;
+}
+
 TEST_P(SkillsetOnBothRobots, PlannedArmMotionExecutesWithinSpeedLimitsAndTracks) {
   const Chains chains = {"left_arm"};
   const std::vector<double> goal = valid_configuration(skills(), chains, 31);
