@@ -387,9 +387,9 @@ TEST(CollideGeoms, ACapsuleThroughAThinBoxTouchesItAtEveryPose) {
   }
   EXPECT_GT(overlapping, 4000);
   EXPECT_GT(axis_inside, 1000);
-  // Upright through the top, its upper end 5.6 cm above the top's underside and its lower end
-  // 20 cm below the top's upper face: it leaves the top soonest downwards, so the top lies
-  // above it, 9.6 cm plus its radius deep.
+  // Upright through the top, its axis's upper end 5.6 cm above the top's upper face (9.6 cm
+  // above its underside) and its lower end 20 cm below the upper face: it leaves the top
+  // soonest downwards, so the top lies above it, 9.6 cm plus its radius deep.
   d->qpos[0] = 0;
   d->qpos[1] = 0.49;
   d->qpos[2] = 0;
