@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <regex>
 #include <sstream>
@@ -342,10 +343,13 @@ std::string run_in_root(const test::ScratchRoot& root, const std::string& file,
 }
 
 // Runs one trial of a task of scenarios/tasks/ (tidy.yaml, chores.yaml) for `robot` in
-// `environment` (the task file's own robots and environments replaced); its trials.jsonl.
+// `environment` (the task file's own robots and environments replaced), in a scratch root to
+// which `add_room` (if given) first adds a room; its trials.jsonl.
 std::string run_task_trial(const std::string& task, const std::string& robot,
-                           const std::string& environment, const std::string& trial_id) {
+                           const std::string& environment, const std::string& trial_id,
+                           const std::function<void(const test::ScratchRoot&)>& add_room = {}) {
   test::ScratchRoot root;
+  if (add_room) add_room(root);
   std::ifstream in(std::filesystem::path(TASKMATRIX_TEST_ROOT) / "scenarios" / "tasks" / task);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_FALSE(text.empty()) << task;
@@ -845,6 +849,19 @@ success: grasping(jar)
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 2000);
 }
 
+// The generalization suite's drawn world, as scenario text: ground-truth perception, 8 random
+// obstacles, the vacuum, cup and juice box placed at random on the work surface; and its start
+// drawn round the environment's.
+constexpr const char* kDrawnWorld = R"(perception: ground_truth
+obstacles: {count: 8}
+objects:
+  vacuum: {on: work_surface, yaw: [-0.5, 0.5]}
+  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
+  box: {on: work_surface, yaw: [-3.14159, 3.14159]}
+)";
+constexpr const char* kDrawnStart =
+    "robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}\n";
+
 // The robot `robot` of tests/data/robots (copied into a scratch root) reaching for the cup in
 // the kitchen as the generalization suite draws it, the table's top drawn from `heights`
 // ("min, max", m); the trials.jsonl of layout `layout_seed` (seed: layout_seed - 99, as the
@@ -855,19 +872,10 @@ std::string never_seen_robot_reach_trial(const std::string& robot, const std::st
   const std::filesystem::path data =
       std::filesystem::path(TASKMATRIX_TEST_ROOT) / "tests" / "data" / "robots" / robot;
   std::filesystem::copy(data, root.path() / "models" / "robots" / robot);
-  root.write("reach.yaml", "program: reach\nparams: {object: cup}\nrobots: [" + robot + R"(]
-environments: [kitchen]
-perception: ground_truth
-obstacles: {count: 8}
-objects:
-  vacuum: {on: work_surface, yaw: [-0.5, 0.5]}
-  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
-  box: {on: work_surface, yaw: [-3.14159, 3.14159]}
-surfaces:
-  work_surface: {height_m: [)" +
-                               heights + R"(]}
-robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
-layout_seed: )" + std::to_string(layout_seed) +
+  root.write("reach.yaml", "program: reach\nparams: {object: cup}\nrobots: [" + robot +
+                               "]\nenvironments: [kitchen]\n" + kDrawnWorld +
+                               "surfaces:\n  work_surface: {height_m: [" + heights + "]}\n" +
+                               kDrawnStart + "layout_seed: " + std::to_string(layout_seed) +
                                "\nseed: " + std::to_string(layout_seed - 99) + R"(
 trials: 1
 time_limit_s: 30
@@ -960,15 +968,9 @@ TEST(RoomsNeverSeen, TheBoxSetDownOnTheCartStaysThereWhenTheRobotStepsBack) {
 // settling (joint 'LShoulderRoll' at -0.1890, sent to -0.2018)`. An escape step no longer
 // presses deeper than 1 mm into what its start touches.
 TEST(RoomsNeverSeen, ALiftDoesNotPressTheUpperArmIntoTheTorsoItRestsOn) {
-  test::ScratchRoot root;
-  test::add_kitchen_counter_behind(root);
-  std::ifstream in(std::filesystem::path(TASKMATRIX_TEST_ROOT) / "scenarios" / "tasks" /
-                   "tidy.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  text = std::regex_replace(text, std::regex("\n(robots|environments|trials): [^\n]*"), "");
-  root.write("tidy.yaml", text + "robots: [minibot]\nenvironments: [kitchen_behind]\ntrials: 8\n");
-  const std::string trials =
-      run_in_root(root, "tidy.yaml", "tidy.minibot.kitchen_behind.RRTConnect.l202.s3");
+  const std::string trials = run_task_trial("tidy.yaml", "minibot", "kitchen_behind",
+                                            "tidy.minibot.kitchen_behind.RRTConnect.l202.s3",
+                                            test::add_kitchen_counter_behind);
   EXPECT_NE(trials.find("\"status\":\"success\""), std::string::npos) << trials.substr(0, 3000);
 }
 
@@ -980,19 +982,13 @@ TEST(RoomsNeverSeen, ALiftDoesNotPressTheUpperArmIntoTheTorsoItRestsOn) {
 std::string turned_kitchen_vacuum_trial(const std::string& trial_id) {
   test::ScratchRoot root;
   test::add_turned_kitchen(root);
-  root.write("vacuum.yaml", R"(program: vacuum
+  root.write("vacuum.yaml", std::string(R"(program: vacuum
 params: {tool: vacuum, surface: work_surface}
 robots: [atlas]
 environments: [kitchen_turned]
-perception: ground_truth
-obstacles: {count: 8}
-objects:
-  vacuum: {on: work_surface, yaw: [-0.5, 0.5]}
-  cup: {on: work_surface, yaw: [-3.14159, 3.14159]}
-  box: {on: work_surface, yaw: [-3.14159, 3.14159]}
-surfaces: {work_surface: {height_m: [0.62, 0.78]}}
-robot_start: {x: [-0.05, 0.05], y: [-0.10, 0.10], yaw: [-0.15, 0.15]}
-layout_seed: 500
+)") + kDrawnWorld + "surfaces: {work_surface: {height_m: [0.62, 0.78]}}\n" +
+                                kDrawnStart +
+                                R"(layout_seed: 500
 seed: 1
 trials: 6
 time_limit_s: 90
