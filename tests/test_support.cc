@@ -154,6 +154,14 @@ void add_kitchen_counter_behind(const ScratchRoot& root) {
                "{x: [-1.25, -0.75], y: [-0.12, 0.52], regions: [floor]}");
 }
 
+void stiffen_tallbot_waist(const ScratchRoot& root) {
+  const std::string model = "models/robots/tallbot/tallbot.xml";
+  root.replace(model, R"(joint name="torso_pitch" class="tb_torso" axis="0 1 0" range="-0.3 1.4")",
+               R"(joint name="torso_pitch" class="tb_torso" axis="0 1 0" range="-0.3 0.8")");
+  root.replace(model, R"(joint="torso_pitch" ctrlrange="-0.3 1.4")",
+               R"(joint="torso_pitch" ctrlrange="-0.3 0.8")");
+}
+
 std::optional<std::string> known_mode_difference(const std::string& program,
                                                  const std::string& robot) {
   if (robot != "minibot") return std::nullopt;

@@ -82,4 +82,10 @@ void add_turned_kitchen(const ScratchRoot& root);
 // needs the robot to turn round and walk to it.
 void add_kitchen_counter_behind(const ScratchRoot& root);
 
+// Gives tallbot in `root` the waist it had until 2026-12-06: its torso pitches forward at most
+// 0.8 rad (46 degrees) instead of 1.4. With it, its palm gets nowhere over a table below
+// 0.50-0.60 m as a grasp of an upright object holds it (its fingers close along its forearm,
+// which then points down too steeply): a robot that cannot serve a low table.
+void stiffen_tallbot_waist(const ScratchRoot& root);
+
 }  // namespace taskmatrix::test

@@ -182,7 +182,10 @@ for s, sy in (("l", 1), ("r", -1)):
 # torso
 open_('<body name="torso" pos="0 0 %s">' % f(WAIST_Z - PELVIS_Z))
 joint("torso_yaw", "tb_torso", "hinge", [0, 0, 1], -1.0, 1.0)
-joint("torso_pitch", "tb_torso", "hinge", [0, 1, 0], -0.3, 0.8)
+# Forward to 1.4 rad (80 degrees): a person's hips and lower back bending with the knees
+# straight (the legs are fixed). At 0.8 rad no grasp of an upright object reached below a 0.60 m
+# table top (models/README.md, "surface heights").
+joint("torso_pitch", "tb_torso", "hinge", [0, 1, 0], -0.3, 1.4)
 sphere("waist", [0, 0, 0], 0.075, "tb_dark")
 capsule("abdomen", [0, -0.06, 0.09], [0, 0.06, 0.09], 0.08)
 w('<geom name="chest" type="ellipsoid" pos="0 0 0.3" size="0.11 0.135 0.17"/>')
