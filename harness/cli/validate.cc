@@ -1,5 +1,7 @@
 // taskmatrix validate SCENARIO
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "harness/cli/verb.h"
 #include "harness/run/run_job.h"
@@ -18,8 +20,14 @@ class Validate final : public Verb {
 
   int run(VerbContext& context) override {
     const ModelCatalog& catalog = context.catalog();
-    const int trials = validate_run_plan(catalog, context.programs(), file_);
-    std::cout << file_ << ": ok, " << trials << " trials\n";
+    std::vector<std::string> warnings;
+    const int trials = validate_run_plan(catalog, context.programs(), file_, &warnings);
+    for (const std::string& w : warnings) std::cerr << w << "\n";
+    std::cout << file_ << ": ok, " << trials << " trials" << (warnings.empty() ? "" : ", ")
+              << (warnings.empty() ? ""
+                                   : std::to_string(warnings.size()) + " warning" +
+                                         (warnings.size() == 1 ? "" : "s"))
+              << "\n";
     return 0;
   }
 

@@ -27,6 +27,7 @@
 #include "harness/scenario/trial_matrix.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/motion_planning.h"
+#include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/io/text_file.h"
 
 namespace taskmatrix::harness {
@@ -92,6 +93,8 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
     p.matrix = {parse_trial_id(p.plan, only)};
     p.whole_matrix = 1;
   }
+  // Each scenario's names against each of its environments, once.
+  std::set<std::pair<int, std::string>> names_checked;
   for (const TrialSpec& t : p.matrix) {
     // The id names the trial's trajectory file (at most 255 bytes with its suffix).
     if (t.id.size() > kMaxTrialIdLength) {
@@ -106,6 +109,9 @@ Prepared prepare(const ModelCatalog& catalog, core::ProgramRegistry& registry,
       scene = backend().load(catalog.robot_dir(t.robot), catalog.environment_dir(t.environment));
     }
     const Scenario& s = p.plan.scenarios[static_cast<size_t>(t.scenario)];
+    if (names_checked.insert({t.scenario, t.environment}).second) {
+      check_names(s, scene->environment());
+    }
     p.layouts[t.id] = draw_trial_layout(s, *scene, t.layout_seed, t.id);
   }
   return p;
@@ -245,8 +251,32 @@ std::string write_run_results(const std::filesystem::path& dir, const RunPlan& p
 }
 
 int validate_run_plan(const ModelCatalog& catalog, core::ProgramRegistry& registry,
-                      const std::filesystem::path& file) {
-  return static_cast<int>(prepare(catalog, registry, file, {}, "", {}).matrix.size());
+                      const std::filesystem::path& file, std::vector<std::string>* warnings) {
+  const Prepared p = prepare(catalog, registry, file, {}, "", {});
+  if (warnings) {
+    // Every machine a scenario runs, and the machines those run, once each.
+    std::set<std::string> seen;
+    std::vector<std::string> pending;
+    for (const Scenario& s : p.plan.scenarios) {
+      pending.push_back(s.run.program);
+      for (const ProgramCall& c : s.setup) pending.push_back(c.program);
+    }
+    while (!pending.empty()) {
+      const std::string program = pending.back();
+      pending.pop_back();
+      const core::ProgramType* type = registry.find(program);
+      if (!type || !type->machine || !seen.insert(program).second) continue;
+      const core::MachineSpec& m = *type->machine;
+      for (const std::string& w : core::machine_warnings(m)) {
+        warnings->push_back((m.source.empty() ? "built in" : m.source) + ": warning: " + w);
+      }
+      for (const core::MachineState& st : m.states) {
+        if (!st.final) pending.push_back(st.program);
+      }
+      for (const core::ConcurrentProgram& c : m.concurrent) pending.push_back(c.program);
+    }
+  }
+  return static_cast<int>(p.matrix.size());
 }
 
 RunJobResult run_job(const ModelCatalog& catalog, core::ProgramRegistry& registry,

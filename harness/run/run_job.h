@@ -72,8 +72,11 @@ std::string write_run_results(const std::filesystem::path& dir, const RunPlan& p
 
 // `taskmatrix validate`: reads and checks everything run_job would before its first trial,
 // without running. Returns the number of trials the file defines. Throws core::InputError.
+// `warnings`, if given, receives what the state machines the scenarios run leave without a way
+// to succeed (core::machine_warnings; nested machines too), each naming the machine's file.
 int validate_run_plan(const ModelCatalog& catalog, core::ProgramRegistry& registry,
-                      const std::filesystem::path& file);
+                      const std::filesystem::path& file,
+                      std::vector<std::string>* warnings = nullptr);
 
 // The MuJoCo version the backend runs, e.g. "2.2.2" (provenance.json's mujoco_version).
 std::string mujoco_version();

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <set>
 #include <tuple>
 
 #include "harness/scenario/planner_plugins.h"
 #include "taskmatrix/core/conditions.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/motion_planning.h"
+#include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/io/machine_file.h"
 #include "taskmatrix/io/text_file.h"
 #include "taskmatrix/io/yaml_reader.h"
@@ -70,6 +72,54 @@ ProgramCall read_call(const io::YamlNode& node, const core::ProgramRegistry& reg
     (params_node ? *params_node : node).fail(e.what());
   }
   return call;
+}
+
+// The names `call` gives to things in the world (core::names_used), with where the scenario
+// writes each: its parameter under `prefix` ("" or "setup[k]."), else the machine file's state
+// or transition, else the program's key.
+// `defaults_node`: the inline machine's `parameters:`, where its defaults are written.
+void add_names(Scenario& s, const core::ProgramRegistry& registry, const ProgramCall& call,
+               const std::string& prefix, const io::YamlNode& program_node,
+               const std::optional<io::YamlNode>& params_node,
+               const std::optional<io::YamlNode>& defaults_node = std::nullopt) {
+  std::vector<core::NameUse> uses;
+  try {
+    uses = core::names_used(registry, call.program, call.params);
+  } catch (
+      const std::invalid_argument& e) {  // a value a machine passes on that its program refuses
+    (params_node ? *params_node : program_node).fail(e.what());
+  }
+  for (const core::NameUse& u : uses) {
+    NameRef r;
+    r.name = u.name;
+    r.kind = u.kind;
+    r.use = u.path;
+    if (!u.param.empty()) {
+      r.file = s.file;
+      r.key = prefix + "params." + u.param;
+      const std::optional<io::YamlNode> given =
+          params_node && !u.defaulted ? params_node->optional(u.param) : std::nullopt;
+      r.line = given ? given->line() : program_node.line();
+      const std::optional<io::YamlNode> written =
+          u.defaulted && defaults_node ? defaults_node->optional(u.param) : std::nullopt;
+      if (written) {
+        r.key = written->key();
+        r.line = written->line();
+      }
+      if (u.defaulted) r.use += " (the default of '" + u.param + "')";
+    } else if (!u.file.empty() && !u.spot.key.empty()) {
+      r.file = u.file;
+      r.key = u.spot.key;
+      r.line = u.spot.line;
+      if (u.defaulted) r.use += " (its default)";
+    } else {
+      r.file = s.file;
+      r.key = prefix + "program";
+      r.line = program_node.line();
+      if (u.defaulted) r.use += " (its default)";
+    }
+    s.names.push_back(std::move(r));
+  }
 }
 
 // `known`: the names allowed; null: any safe name (a list something else replaces).
@@ -281,17 +331,23 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
       root.required("program").fail("names '" + root.required("program").as_string() +
                                     "' but the inline machine is '" + registered + "'");
     }
-    s.run = read_call(root, registry,
-                      root.has("program") ? root.required("program") : machine->required("name"),
-                      root.optional("params"));
+    const io::YamlNode program =
+        root.has("program") ? root.required("program") : machine->required("name");
+    s.run = read_call(root, registry, program, root.optional("params"));
+    add_names(s, registry, s.run, "", program, root.optional("params"),
+              machine->optional("parameters"));
   } else {
     s.run = read_call(root, registry, root.required("program"), root.optional("params"));
+    add_names(s, registry, s.run, "", root.required("program"), root.optional("params"));
   }
   if (auto setup = root.optional("setup")) {
+    size_t k = 0;
     for (const io::YamlNode& step : setup->items()) {
       step.expect_keys({"program", "params"});
       s.setup.push_back(
           read_call(step, registry, step.required("program"), step.optional("params")));
+      add_names(s, registry, s.setup.back(), "setup[" + std::to_string(k++) + "].",
+                step.required("program"), step.optional("params"));
     }
   }
   const std::vector<std::string> robots = catalog.robots(), environments = catalog.environments();
@@ -327,12 +383,57 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
   if (auto success = root.optional("success")) {
     s.success = success->as_string();
     try {
-      core::parse_condition(s.success);
+      for (const std::string& name : core::condition_object_names(s.success)) {
+        s.names.push_back({name, core::NameKind::kObject, file, "success", success->line(),
+                           "success: " + s.success});
+      }
     } catch (const std::invalid_argument& e) {
       success->fail(e.what());
     }
   }
   return s;
+}
+
+void check_names(const Scenario& s, const core::EnvironmentSpec& environment) {
+  std::set<std::string> objects, surfaces;
+  for (const auto& [name, spec] : environment.objects) {
+    if (spec.bodies.size() == 1) {
+      objects.insert(name);
+      if (spec.kind == core::ObjectKind::kSurface) surfaces.insert(name);
+    } else {
+      objects.insert(spec.bodies.begin(), spec.bodies.end());
+    }
+  }
+  if (!environment.visitor.body.empty()) objects.insert("visitor");
+  auto listing = [](const std::set<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out.empty() ? std::string("none") : out;
+  };
+  const std::string slots =
+      environment.obstacle_slots > 0
+          ? ", obstacle_0 to obstacle_" + std::to_string(environment.obstacle_slots - 1)
+          : "";
+  for (const NameRef& r : s.names) {
+    const bool surface = r.kind == core::NameKind::kSurface;
+    bool known = (surface ? surfaces : objects).count(r.name) > 0;
+    if (!known && !surface && r.name.rfind("obstacle_", 0) == 0) {
+      const std::string slot = r.name.substr(9);
+      known = !slot.empty() && slot.size() < 4 &&
+              std::all_of(slot.begin(), slot.end(),
+                          [](unsigned char c) { return std::isdigit(c) != 0; }) &&
+              std::stoi(slot) < environment.obstacle_slots;
+    }
+    if (known) continue;
+    throw core::InputError(r.file.string(), r.key,
+                           std::string("no ") + (surface ? "surface" : "object") + " '" + r.name +
+                               "' in environment '" + environment.name + "' (used by " + r.use +
+                               "; " +
+                               (surface ? "its surfaces: " + listing(surfaces)
+                                        : "it knows: " + listing(objects) + slots) +
+                               ")",
+                           r.line);
+  }
 }
 
 RunPlan load_run_plan(const std::filesystem::path& file, const ModelCatalog& catalog,

@@ -35,6 +35,19 @@ struct PlannerConfig {
   core::PlannerSpec spec;
 };
 
+// A name the scenario gives to something in the world (a program's object or surface
+// parameter, an object argument of `success:` or of a machine's guard or invariant), and where
+// it is written: checked against every environment the scenario runs in (check_names).
+struct NameRef {
+  std::string name;
+  core::NameKind kind = core::NameKind::kObject;
+  std::filesystem::path file;
+  std::string key;
+  int line = 0;
+  std::string use;  // the program and parameter that use it, e.g. "pickup > reach(reach): parameter
+                    // 'object'"
+};
+
 struct Scenario {
   std::string name;  // [A-Za-z0-9_-]+; defaults to the file's stem
   std::string doc;
@@ -66,6 +79,7 @@ struct Scenario {
   double time_limit_s = 60.0;   // simulated seconds for the program (and each set-up step)
   double wall_limit_s = 120.0;  // wall-clock seconds a trial's worker may take before it is killed
   std::string success;          // condition text; empty: the program's completion is the success
+  std::vector<NameRef> names;   // of the run, the set-up steps and `success:`
   std::string file_text;        // the file's bytes (for the run's scenario hash)
 };
 
@@ -83,6 +97,12 @@ struct ReplacedLists {
 // marks are checked for form only.
 Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& catalog,
                        core::ProgramRegistry& registry, ReplacedLists replaced = {});
+
+// Throws core::InputError naming the file, line and key of the first of `s.names` that
+// `environment` does not know: as the perceptual model names them, its objects (a debris
+// object's bodies each), `visitor` where it has one and `obstacle_<slot>` for its obstacle
+// slots; a surface parameter only its surfaces.
+void check_names(const Scenario& s, const core::EnvironmentSpec& environment);
 
 // What `taskmatrix run FILE` runs: the scenario in FILE, or the scenarios a suite includes.
 //   suite: default                # marks a suite and names it

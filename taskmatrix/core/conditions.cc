@@ -415,20 +415,21 @@ using Kind = ConditionArgKind;
 // the reference against the registry.
 void add_builtins(ConditionRegistry& r) {
   using Args = std::vector<ConditionArg>;
-  r.add({"near", 2, 3, {Kind::kName, Kind::kName, Kind::kNumber}, [](const Args& a) {
+  r.add({"near", 2, 3, {Kind::kObject, Kind::kObject, Kind::kNumber}, [](const Args& a) {
            return near(a[0].name, a[1].name, a.size() == 3 ? a[2].number : 0.10);
          }});
-  r.add({"above", 2, 2, {Kind::kName}, [](const Args& a) { return above(a[0].name, a[1].name); }});
+  r.add(
+      {"above", 2, 2, {Kind::kObject}, [](const Args& a) { return above(a[0].name, a[1].name); }});
   r.add({"postural", 1, kAnyNumberOfArgs, {Kind::kName}, [](const Args& a) {
            std::vector<std::string> chains;
            for (size_t i = 1; i < a.size(); ++i) chains.push_back(a[i].name);
            return postural(a[0].name, chains);
          }});
-  r.add({"grasping", 1, 1, {Kind::kName}, [](const Args& a) { return grasping(a[0].name); }});
-  r.add({"graspable", 1, 2, {Kind::kName}, [](const Args& a) {
+  r.add({"grasping", 1, 1, {Kind::kObject}, [](const Args& a) { return grasping(a[0].name); }});
+  r.add({"graspable", 1, 2, {Kind::kObject, Kind::kName}, [](const Args& a) {
            return graspable(a[0].name, a.size() == 2 ? a[1].name : "any");
          }});
-  r.add({"in_view", 1, 1, {Kind::kName}, [](const Args& a) { return in_view(a[0].name); }});
+  r.add({"in_view", 1, 1, {Kind::kObject}, [](const Args& a) { return in_view(a[0].name); }});
   r.add({"exists", 1, 1, {Kind::kName}, [](const Args& a) { return exists(a[0].name); }});
   r.add({"not", 1, 1, {Kind::kCondition}, [](const Args& a) { return negate(a[0].condition); }});
   const auto conditions = [](const Args& a) {
@@ -447,8 +448,10 @@ void add_builtins(ConditionRegistry& r) {
 // Recursive descent over: call := name '(' [arg {',' arg}] ')'; arg := call | word.
 class ConditionParser {
  public:
-  ConditionParser(const std::string& text, const ConditionRegistry& registry)
-      : text_(text), registry_(registry) {}
+  // `objects`, if given, collects the words passed as kObject arguments.
+  ConditionParser(const std::string& text, const ConditionRegistry& registry,
+                  std::vector<std::string>* objects = nullptr)
+      : text_(text), registry_(registry), objects_(objects) {}
 
   ConditionPtr parse() {
     ConditionPtr c = call();
@@ -567,6 +570,10 @@ class ConditionParser {
         case Kind::kName:
           checked[i].name = name_arg(f, args, i);
           break;
+        case Kind::kObject:
+          checked[i].name = name_arg(f, args, i);
+          if (objects_) objects_->push_back(checked[i].name);
+          break;
         case Kind::kNumber:
           checked[i].number = number_arg(f, args, i);
           break;
@@ -582,6 +589,7 @@ class ConditionParser {
 
   const std::string& text_;
   const ConditionRegistry& registry_;
+  std::vector<std::string>* objects_;
   size_t pos_ = 0;
   int depth_ = 0;
 };
@@ -634,6 +642,13 @@ ConditionRegistration::ConditionRegistration(ConditionType type) {
 
 ConditionPtr parse_condition(const std::string& text, const ConditionRegistry& registry) {
   return ConditionParser(text, registry).parse();
+}
+
+std::vector<std::string> condition_object_names(const std::string& text,
+                                                const ConditionRegistry& registry) {
+  std::vector<std::string> out;
+  ConditionParser(text, registry, &out).parse();
+  return out;
 }
 
 double box_distance(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {

@@ -79,11 +79,14 @@ ConditionPtr any_of(std::vector<ConditionPtr> conditions);
 ConditionPtr negate(ConditionPtr condition);
 
 // ---- The condition registry: what the text form may call.
-// A call's arguments are names (objects, types, postures, chains, sides: any WORD of the text
-// form), non-negative finite numbers, or nested conditions.
-enum class ConditionArgKind { kName, kNumber, kCondition };
+// A call's arguments are names (types, postures, chains, sides: any WORD of the text form),
+// object names (a WORD naming a thing the perceptual model knows, which `taskmatrix validate`
+// and `run` check against every environment of a scenario), non-negative finite numbers, or
+// nested conditions.
+enum class ConditionArgKind { kName, kObject, kNumber, kCondition };
 
-// One parsed argument: `name` for kName, `number` for kNumber, `condition` for kCondition.
+// One parsed argument: `name` for kName and kObject, `number` for kNumber, `condition` for
+// kCondition.
 struct ConditionArg {
   std::string name;
   double number = 0;
@@ -137,6 +140,10 @@ struct ConditionRegistration {
 inline constexpr int kMaxConditionDepth = 64;
 ConditionPtr parse_condition(const std::string& text,
                              const ConditionRegistry& registry = condition_registry());
+// The words `text` passes as kObject arguments, in order, repeats kept (a "$name" of a
+// machine's condition as written). Parses as parse_condition does and throws as it does.
+std::vector<std::string> condition_object_names(
+    const std::string& text, const ConditionRegistry& registry = condition_registry());
 
 // Whether `point` (world) is inside the head camera's field of view and range now; for a box,
 // whether one of its 27 corner, edge-centre, face-centre and centre points is.

@@ -14,6 +14,12 @@ namespace taskmatrix::core {
 
 enum class ParamType { kString, kNumber, kInteger, kBool, kStringList };
 const char* to_string(ParamType type);
+
+// What a string parameter's value names in the world, so that `taskmatrix validate` and `run`
+// check it against every environment of a scenario before anything runs: nothing (kNone), a
+// thing the perceptual model knows (kObject: an environment's object, a debris flake, the
+// visitor, an obstacle), or a surface (kSurface).
+enum class NameKind { kNone, kObject, kSurface };
 using ParamValue = std::variant<std::string, double, std::int64_t, bool, std::vector<std::string>>;
 
 struct ParamSpec {
@@ -23,6 +29,7 @@ struct ParamSpec {
   ParamValue default_value;          // used when not required and not given
   std::vector<std::string> choices;  // for strings: allowed values (empty: any)
   std::string doc;
+  NameKind names = NameKind::kNone;  // for strings: what the value names in the world
 };
 
 // Raw parameter text as written in a scenario or machine file, by name.

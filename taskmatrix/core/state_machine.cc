@@ -370,7 +370,132 @@ void register_machine(const MachineSpec& spec, ProgramRegistry& registry) {
   type.make = [spec](const Params& params) {
     return std::make_unique<StateMachineProgram>(spec, params);
   };
+  type.machine = std::make_shared<const MachineSpec>(spec);
   registry.add(std::move(type));
+}
+
+std::vector<std::string> machine_warnings(const MachineSpec& spec) {
+  std::vector<std::string> out;
+  const std::string m = "machine '" + spec.name + "'";
+  // States reached from the initial one by transitions, which fire from states and from
+  // concurrent programs (running whatever state the machine is in).
+  std::set<std::string> reached{spec.initial};
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const MachineTransition& t : spec.transitions) {
+      const bool from_here = reached.count(t.from) > 0 || find_concurrent(spec, t.from) != nullptr;
+      if (from_here && !t.to.empty() && reached.insert(t.to).second) grew = true;
+    }
+  }
+  for (const MachineState& s : spec.states) {
+    if (!reached.count(s.name)) {
+      out.push_back(m + ": state '" + s.name +
+                    "' is never reached: no transition leads to it from '" + spec.initial + "'");
+    }
+  }
+  const bool succeeds = std::any_of(
+      spec.states.begin(), spec.states.end(),
+      [&](const MachineState& s) { return s.final && s.success && reached.count(s.name) > 0; });
+  if (!succeeds) {
+    out.push_back(m + ": no final state with success is reached, so the machine can only fail");
+  }
+  return out;
+}
+
+namespace {
+
+// Where a call's parameter got its value: the outermost call's parameter ("" when a machine
+// wrote it, or a program's own default), and where that machine wrote it.
+struct Origin {
+  std::string param = "";
+  bool defaulted = false;
+  std::string file = "";
+  SourceSpot spot = {};
+};
+
+// Machines nest only through programs registered before them, so this bounds nothing real.
+constexpr int kMaxNesting = 64;
+
+// `origins`: of the parameters the call gives; the others are the program's defaults, written
+// where `call` says.
+void collect_names(const ProgramRegistry& registry, const std::string& program,
+                   const RawParams& raw, const std::map<std::string, Origin>& origins,
+                   const Origin& call, const std::string& path, int depth,
+                   std::vector<NameUse>& out) {
+  const ProgramType* type = registry.find(program);
+  if (type == nullptr || depth > kMaxNesting) return;
+  const Params params = check_params(type->params, raw);
+  auto origin_of = [&](const std::string& param) {
+    const auto it = origins.find(param);
+    return it != origins.end() ? it->second : Origin{"", true, call.file, call.spot};
+  };
+  const MachineSpec* machine = type->machine.get();
+  for (const ParamSpec& p : type->params) {
+    if (p.names == NameKind::kNone || p.type != ParamType::kString) continue;
+    const std::string& value = params.text(p.name);
+    if (value.empty()) continue;  // an optional parameter left out
+    const Origin o = origin_of(p.name);
+    out.push_back({value, p.names, o.param, o.defaulted, path + ": parameter '" + p.name + "'",
+                   o.file, o.spot});
+  }
+  if (machine == nullptr) return;
+  const MachineSpec& m = *machine;
+  // Each parameter of a program the machine calls: "$x" takes x's origin, the rest are the
+  // machine's own writing.
+  auto call_origins = [&](const RawParams& given, const SourceSpot& spot) {
+    std::map<std::string, Origin> o;
+    for (const auto& [key, value] : given) {
+      o[key] = !value.empty() && value.front() == '$' ? origin_of(value.substr(1))
+                                                      : Origin{"", false, m.source, spot};
+    }
+    return o;
+  };
+  auto condition_names = [&](const std::string& text, const SourceSpot& spot,
+                             const std::string& where) {
+    for (const std::string& word : condition_object_names(text)) {
+      if (!word.empty() && word.front() == '$') {
+        const std::string ref = word.substr(1);
+        const Origin o = origin_of(ref);
+        out.push_back({param_text(params.values().at(ref)), NameKind::kObject, o.param, o.defaulted,
+                       where, o.file, o.spot});
+      } else {
+        out.push_back({word, NameKind::kObject, "", false, where, m.source, spot});
+      }
+    }
+  };
+  for (const ConcurrentProgram& c : m.concurrent) {
+    collect_names(registry, c.program, substitute(c.params, params), call_origins(c.params, c.spot),
+                  Origin{"", true, m.source, c.spot}, path + " > " + c.program + "(" + c.name + ")",
+                  depth + 1, out);
+  }
+  for (const MachineState& st : m.states) {
+    if (st.final) continue;
+    collect_names(registry, st.program, substitute(st.params, params),
+                  call_origins(st.params, st.spot), Origin{"", true, m.source, st.spot},
+                  path + " > " + st.program + "(" + st.name + ")", depth + 1, out);
+    if (!st.invariant.empty()) {
+      condition_names(st.invariant, st.spot, path + ", state '" + st.name + "' invariant");
+    }
+  }
+  for (size_t k = 0; k < m.transitions.size(); ++k) {
+    const MachineTransition& t = m.transitions[k];
+    if (t.when.empty()) continue;
+    condition_names(t.when, t.spot,
+                    path + ", transition " + std::to_string(k) + " (from " + t.from + ") guard");
+  }
+}
+
+}  // namespace
+
+std::vector<NameUse> names_used(const ProgramRegistry& registry, const std::string& program,
+                                const RawParams& params) {
+  std::vector<NameUse> out;
+  const ProgramType* type = registry.find(program);
+  if (type == nullptr) return out;
+  std::map<std::string, Origin> origins;
+  for (const ParamSpec& p : type->params) origins[p.name] = {p.name, params.count(p.name) == 0};
+  collect_names(registry, program, params, origins, Origin{}, program, 0, out);
+  return out;
 }
 
 }  // namespace taskmatrix::core

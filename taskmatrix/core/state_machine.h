@@ -25,6 +25,13 @@
 
 namespace taskmatrix::core {
 
+// Where a machine file wrote a state, transition or concurrent program: its key and line
+// (empty and 0 for machines built in code).
+struct SourceSpot {
+  std::string key = "";
+  int line = 0;
+};
+
 struct MachineState {
   std::string name;
   std::string program;  // empty for final states
@@ -32,6 +39,7 @@ struct MachineState {
   bool final = false;
   bool success = true;    // for final states
   std::string invariant;  // a condition that must hold while the state runs; empty: none
+  SourceSpot spot = {};
 };
 
 struct MachineTransition {
@@ -41,6 +49,7 @@ struct MachineTransition {
   std::vector<std::string> start;  // concurrent programs to (re)start
   std::vector<std::string> stop;   // concurrent programs to halt
   std::string when;                // a guard condition; empty: always
+  SourceSpot spot = {};
 };
 
 struct ConcurrentProgram {
@@ -48,6 +57,7 @@ struct ConcurrentProgram {
   std::string program;
   RawParams params;
   bool at_start = true;  // started with the machine
+  SourceSpot spot = {};
 };
 
 struct MachineSpec {
@@ -68,5 +78,31 @@ void check_machine(const MachineSpec& spec, const ProgramRegistry& registry);
 
 // check_machine, then registers the machine as a program type under spec.name.
 void register_machine(const MachineSpec& spec, ProgramRegistry& registry);
+
+// What a machine's layout leaves without a way to succeed, for `taskmatrix validate` to warn
+// of (each a sentence naming the machine): states no transition leads to from the initial
+// state, and no final state with success.
+std::vector<std::string> machine_warnings(const MachineSpec& spec);
+
+// A name that a call of a program gives to something in the world: through a parameter whose
+// spec says what it names (ParamSpec::names), or as an object argument of a machine's guard
+// or invariant (ConditionArgKind::kObject), followed through machines' "$x" references.
+struct NameUse {
+  std::string name;
+  NameKind kind = NameKind::kObject;
+  // The call's own parameter it came from ("" when a machine wrote it as it is), and whether
+  // that parameter was left at its default.
+  std::string param;
+  bool defaulted = false;
+  // Where it is used: "pickup > reach: parameter 'object'", "tidy, state 'wait' invariant".
+  std::string path;
+  // Where a machine file wrote it, when it came from no parameter of the call.
+  std::string file = "";
+  SourceSpot spot = {};
+};
+// The names the call (`program` with `params`, checked by check_params) gives, in the order
+// its machine states and programs declare them. Throws std::invalid_argument as check_params.
+std::vector<NameUse> names_used(const ProgramRegistry& registry, const std::string& program,
+                                const RawParams& params);
 
 }  // namespace taskmatrix::core

@@ -147,11 +147,15 @@ class TaskProgram {
 };
 
 // ---- The program registry: names to parameter specs and factories.
+struct MachineSpec;  // state_machine.h
 struct ProgramType {
   std::string name;
   std::string doc;
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<TaskProgram>(const Params&)> make;
+  // The machine it runs, for a program registered by register_machine (else null): what
+  // names_used reads through.
+  std::shared_ptr<const MachineSpec> machine = nullptr;
 };
 
 class ProgramRegistry {

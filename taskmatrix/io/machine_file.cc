@@ -80,6 +80,7 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
       c.program = node.required("program").as_string();
       c.params = read_params(node.optional("params"));
       if (auto at_start = node.optional("at_start")) c.at_start = at_start->as_bool();
+      c.spot = {node.key(), node.line()};
       spec.concurrent.push_back(std::move(c));
       if (lines) lines->states[name] = {node.key(), node.line()};
     }
@@ -99,6 +100,7 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
       s.params = read_params(node.optional("params"));
       s.invariant = node.get_string("invariant", "");
     }
+    s.spot = {node.key(), node.line()};
     spec.states.push_back(std::move(s));
     if (lines) lines->states[name] = {node.key(), node.line()};
   }
@@ -113,6 +115,7 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
       t.when = node.get_string("when", "");
       if (auto start = node.optional("start")) t.start = start->as_strings();
       if (auto stop = node.optional("stop")) t.stop = stop->as_strings();
+      t.spot = {node.key(), node.line()};
       spec.transitions.push_back(std::move(t));
       if (lines) lines->transitions.push_back({node.key(), node.line()});
     }

@@ -206,7 +206,13 @@ class Grasp final : public core::TaskProgram {
 core::ProgramType grasp_program() {
   return {"grasp",
           "closes each finger segment until contact and holds `object` if most fingers touch it",
-          {{"object", core::ParamType::kString, true, {}, {}, "object id in the perceptual model"},
+          {{"object",
+            core::ParamType::kString,
+            true,
+            {},
+            {},
+            "object id in the perceptual model",
+            core::NameKind::kObject},
            {"side", core::ParamType::kString, false, std::string("any"), kSides,
             "hand to use; any: the free hand nearest the object"}},
           [](const core::Params& p) { return std::make_unique<Grasp>(p); }};

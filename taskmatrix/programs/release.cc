@@ -1,8 +1,8 @@
 // release: opens a hand to the profile's rest posture (paper: "release"), first letting go of
 // what it holds; a finger stopped short by what it touches (the surface under the object)
-// ends the opening without failing it. With side "any" it opens the hand holding `object`; else, given `near`, the
-// free hand nearest that object (a hand whose grasp did not hold); else every hand holding
-// something, or both hands if none does.
+// ends the opening without failing it. With side "any" it opens the hand holding `object`; else,
+// given `near`, the free hand nearest that object (a hand whose grasp did not hold); else every
+// hand holding something, or both hands if none does.
 #include <algorithm>
 
 #include "taskmatrix/programs/primitives.h"
@@ -92,13 +92,15 @@ core::ProgramType release_program() {
             false,
             std::string(),
             {},
-            "if given, the hand must be holding it (precondition grasping(object))"},
+            "if given, the hand must be holding it (precondition grasping(object))",
+            core::NameKind::kObject},
            {"near",
             core::ParamType::kString,
             false,
             std::string(),
             {},
-            "with side any and no `object`: open the free hand nearest this object"}},
+            "with side any and no `object`: open the free hand nearest this object",
+            core::NameKind::kObject}},
           [](const core::Params& p) { return std::make_unique<Release>(p); }};
 }
 

@@ -366,7 +366,8 @@ core::ProgramType retreat_program() {
             {},
             "the surface or object to step away from (base; default: every surface), or "
             "the object the hand withdraws from, which it may brush (hand; side any: the hand "
-            "nearest it)"},
+            "nearest it)",
+            core::NameKind::kObject},
            {"distance", ParamType::kNumber, false, 0.2, {}, "how far, m"},
            {"side", ParamType::kString, false, std::string("any"), kSides,
             "hand: which; any: the free hand nearest `from`"},

@@ -242,6 +242,137 @@ TEST_F(ScenarioFiles, ValidateChecksLayoutsBeforeAnything) {
   EXPECT_EQ(validate_run_plan(test::catalog(), registry_, write("ok.yaml", kReach)), 1);
 }
 
+// A misspelled name of something in the world is refused before anything runs, with the file,
+// line and key where it is written and which program would have used it: a program's
+// parameter (followed into the machines pickup and putdown run), a state of an inline machine,
+// a machine's default, a guard and the success condition; every environment the scenario
+// lists is asked. Before, each of these validated and the trials failed as they ran
+// (`perception_miss: 'cupp' is not in the perceptual model`).
+TEST_F(ScenarioFiles, ValidateRefusesANameNoEnvironmentKnowsWithWhereItIsWritten) {
+  auto refusal = [&](const std::string& text) {
+    const auto file = write("names.yaml", text);
+    core::ProgramRegistry fresh;  // an inline machine registers its name
+    programs::register_programs(fresh);
+    try {
+      validate_run_plan(test::catalog(), fresh, file);
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("validated");
+  };
+  const std::string file = (dir_ / "names.yaml").string();
+  const std::string where = "robots: [minibot]\nenvironments: [kitchen, office]\n";
+  const std::string cupp = refusal("program: pickup\nparams: {object: cupp}\n" + where);
+  EXPECT_EQ(cupp.rfind(file + ":2: params.object: no object 'cupp' in environment 'kitchen' "
+                              "(used by pickup > ",
+                       0),
+            0u)
+      << cupp;
+  EXPECT_NE(cupp.find("it knows: box, cup, "), std::string::npos) << cupp;
+  const std::string surface =
+      refusal("program: putdown\nparams: {object: cup, surface: side_surfac}\n" + where +
+              "setup:\n  - {program: pickup, params: {object: cup}}\n");
+  EXPECT_EQ(surface.rfind(file + ":2: params.surface: no surface 'side_surfac' in environment "
+                                 "'kitchen' (used by putdown > position(place): parameter 'on'; "
+                                 "its surfaces: side_surface, work_surface)",
+                          0),
+            0u)
+      << surface;
+  const std::string setup =
+      refusal("program: putdown\nparams: {object: cup}\n" + where +
+              "setup:\n  - {program: pickup, params: {object: cup}}\n  - {program: reach, params: "
+              "{object: mug}}\n");
+  EXPECT_EQ(setup.rfind(file + ":7: setup[1].params.object: no object 'mug'", 0), 0u) << setup;
+  const std::string machine = R"yaml(machine:
+  name: carry
+  parameters: {to: {type: string, default: counter}}
+  initial: take
+  states:
+    take: {program: pickup, params: {object: cup}}
+    place: {program: putdown, params: {object: cup, surface: $to}}
+    wave: {program: greet, params: {target: visiter}}
+    done: {final: success}
+  transitions:
+    - {from: take, on: completed, to: place}
+    - {from: place, on: completed, to: wave, when: "near(cup, side_surface)"}
+    - {from: wave, on: completed, to: done}
+)yaml";
+  const std::string by_default = refusal(machine + where);
+  EXPECT_EQ(by_default.rfind(file + ":3: machine.parameters.to: no surface 'counter'", 0), 0u)
+      << by_default;
+  EXPECT_NE(by_default.find("(used by carry > putdown(place) > position(place): parameter 'on' "
+                            "(the default of 'to');"),
+            std::string::npos)
+      << by_default;
+  const std::string in_state = refusal(machine + "params: {to: side_surface}\n" + where);
+  EXPECT_EQ(in_state.rfind(file + ":8: machine.states.wave: no object 'visiter'", 0), 0u)
+      << in_state;
+  std::string guarded = machine + "params: {to: side_surface}\n" + where;
+  guarded.replace(guarded.find("visiter"), 7, "visitor");
+  guarded.replace(guarded.find("near(cup, side_surface)"), 23, "near(cupp, side_surface)");
+  const std::string guard = refusal(guarded);
+  EXPECT_EQ(guard.rfind(file + ":12: machine.transitions[1]: no object 'cupp'", 0), 0u) << guard;
+  EXPECT_NE(guard.find("used by carry, transition 1 (from place) guard"), std::string::npos)
+      << guard;
+  const std::string success =
+      refusal(std::string(kReach) + "success: all_of(graspable(cup), not(in_view(vistor)))\n");
+  EXPECT_EQ(success.rfind(file + ":5: success: no object 'vistor'", 0), 0u) << success;
+  // What every environment has: the debris flakes, the visitor, the obstacle slots.
+  EXPECT_EQ(refusal("program: fixate\nparams: {object: debris_4}\n" + where), "validated");
+  EXPECT_EQ(refusal("program: fixate\nparams: {object: obstacle_3}\n" + where), "validated");
+  EXPECT_EQ(refusal("program: fixate\nparams: {object: visitor}\n" + where), "validated");
+  const std::string slot = refusal("program: fixate\nparams: {object: obstacle_400}\n" + where);
+  EXPECT_NE(slot.find("no object 'obstacle_400'"), std::string::npos) << slot;
+}
+
+// validate warns, and still validates, where a machine leaves a state no transition leads to
+// or reaches no final state with success.
+TEST_F(ScenarioFiles, ValidateWarnsOfAMachineStateNeverReachedAndOfNoWayToSucceed) {
+  const std::string machine = R"(machine:
+  name: fetch_cup
+  initial: take
+  states:
+    take: {program: pickup, params: {object: cup}}
+    spare: {program: reach, params: {object: box}}
+    done: {final: success}
+    gave_up: {final: failure}
+  transitions:
+    - {from: take, on: completed, to: done}
+    - {from: take, on: failed, to: gave_up}
+    - {from: spare, on: completed, to: done}
+robots: [minibot]
+environments: [kitchen]
+)";
+  std::vector<std::string> warnings;
+  EXPECT_EQ(validate_run_plan(test::catalog(), registry_, write("w.yaml", machine), &warnings), 1);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], (dir_ / "w.yaml").string() +
+                             ": warning: machine 'fetch_cup': state 'spare' is never reached: no "
+                             "transition leads to it from 'take'");
+  std::string failing = machine;
+  failing.replace(failing.find("{from: take, on: completed, to: done}"), 37,
+                  "{from: take, on: completed, to: gave_up}");
+  failing.replace(failing.find("name: fetch_cup"), 15, "name: fetch_cup2");
+  warnings.clear();
+  EXPECT_EQ(validate_run_plan(test::catalog(), registry_, write("f.yaml", failing), &warnings), 1);
+  ASSERT_EQ(warnings.size(), 3u);
+  EXPECT_NE(warnings[1].find("state 'done' is never reached"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[2].find("machine 'fetch_cup2': no final state with success is reached, so "
+                             "the machine can only fail"),
+            std::string::npos)
+      << warnings[2];
+  // The built-in machines (pickup, putdown, greet, vacuum) and the task files: none.
+  for (const char* task : {"tidy.yaml", "chores.yaml", "restock.yaml"}) {
+    core::ProgramRegistry fresh;
+    programs::register_programs(fresh);
+    warnings.clear();
+    validate_run_plan(test::catalog(), fresh,
+                      std::filesystem::path(TASKMATRIX_TEST_ROOT) / "scenarios" / "tasks" / task,
+                      &warnings);
+    EXPECT_TRUE(warnings.empty()) << task << ": " << (warnings.empty() ? "" : warnings[0]);
+  }
+}
+
 // The obstacle density suite (scenarios/suites/obstacle_density.yaml) puts its obstacles where
 // they interfere with the task: in every one of its 720 trials' worlds a density of n holds n
 // obstacles, three quarters of them on the table within 0.35 m of the cup.
