@@ -9,6 +9,7 @@
 #include "taskmatrix/core/conditions.h"
 #include "taskmatrix/core/input_error.h"
 #include "taskmatrix/core/motion_planning.h"
+#include "taskmatrix/core/perceptual_model.h"
 #include "taskmatrix/core/state_machine.h"
 #include "taskmatrix/io/machine_file.h"
 #include "taskmatrix/io/text_file.h"
@@ -92,7 +93,6 @@ void add_names(Scenario& s, const core::ProgramRegistry& registry, const Program
   for (const core::NameUse& u : uses) {
     NameRef r;
     r.name = u.name;
-    r.kind = u.kind;
     r.use = u.path;
     if (!u.param.empty()) {
       r.file = s.file;
@@ -321,21 +321,24 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
     (root.has("name") ? root.required("name") : root).fail(bad);
   }
   s.doc = root.get_string("doc", "");
+  // The inline machine's name and where its parameters' defaults are written.
+  std::string inline_machine;
+  std::optional<io::YamlNode> inline_defaults;
   if (auto machine = root.optional("machine")) {
     const std::string name = machine->get_string("name", "");
     if (!name.empty() && registry.find(name)) {
       machine->required("name").fail("a program named '" + name + "' already exists");
     }
-    const std::string registered = io::register_machine_node(*machine, registry);
-    if (root.has("program") && root.required("program").as_string() != registered) {
+    inline_machine = io::register_machine_node(*machine, registry);
+    inline_defaults = machine->optional("parameters");
+    if (root.has("program") && root.required("program").as_string() != inline_machine) {
       root.required("program").fail("names '" + root.required("program").as_string() +
-                                    "' but the inline machine is '" + registered + "'");
+                                    "' but the inline machine is '" + inline_machine + "'");
     }
     const io::YamlNode program =
         root.has("program") ? root.required("program") : machine->required("name");
     s.run = read_call(root, registry, program, root.optional("params"));
-    add_names(s, registry, s.run, "", program, root.optional("params"),
-              machine->optional("parameters"));
+    add_names(s, registry, s.run, "", program, root.optional("params"), inline_defaults);
   } else {
     s.run = read_call(root, registry, root.required("program"), root.optional("params"));
     add_names(s, registry, s.run, "", root.required("program"), root.optional("params"));
@@ -347,7 +350,8 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
       s.setup.push_back(
           read_call(step, registry, step.required("program"), step.optional("params")));
       add_names(s, registry, s.setup.back(), "setup[" + std::to_string(k++) + "].",
-                step.required("program"), step.optional("params"));
+                step.required("program"), step.optional("params"),
+                s.setup.back().program == inline_machine ? inline_defaults : std::nullopt);
     }
   }
   const std::vector<std::string> robots = catalog.robots(), environments = catalog.environments();
@@ -384,8 +388,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
     s.success = success->as_string();
     try {
       for (const std::string& name : core::condition_object_names(s.success)) {
-        s.names.push_back({name, core::NameKind::kObject, file, "success", success->line(),
-                           "success: " + s.success});
+        s.names.push_back({name, file, "success", success->line(), "success: " + s.success});
       }
     } catch (const std::invalid_argument& e) {
       success->fail(e.what());
@@ -395,43 +398,28 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
 }
 
 void check_names(const Scenario& s, const core::EnvironmentSpec& environment) {
-  std::set<std::string> objects, surfaces;
+  std::set<std::string> objects;
   for (const auto& [name, spec] : environment.objects) {
     if (spec.bodies.size() == 1) {
       objects.insert(name);
-      if (spec.kind == core::ObjectKind::kSurface) surfaces.insert(name);
     } else {
       objects.insert(spec.bodies.begin(), spec.bodies.end());
     }
   }
   if (!environment.visitor.body.empty()) objects.insert("visitor");
-  auto listing = [](const std::set<std::string>& names) {
-    std::string out;
-    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-    return out.empty() ? std::string("none") : out;
-  };
-  const std::string slots =
-      environment.obstacle_slots > 0
-          ? ", obstacle_0 to obstacle_" + std::to_string(environment.obstacle_slots - 1)
-          : "";
+  std::string known;
+  for (const std::string& n : objects) known += (known.empty() ? "" : ", ") + n;
+  // The obstacles as the perceptual model names them.
+  for (int k = 0; k < environment.obstacle_slots; ++k) objects.insert(core::obstacle_id(k));
+  if (environment.obstacle_slots > 0) {
+    known +=
+        ", " + core::obstacle_id(0) + " to " + core::obstacle_id(environment.obstacle_slots - 1);
+  }
   for (const NameRef& r : s.names) {
-    const bool surface = r.kind == core::NameKind::kSurface;
-    bool known = (surface ? surfaces : objects).count(r.name) > 0;
-    if (!known && !surface && r.name.rfind("obstacle_", 0) == 0) {
-      const std::string slot = r.name.substr(9);
-      known = !slot.empty() && slot.size() < 4 &&
-              std::all_of(slot.begin(), slot.end(),
-                          [](unsigned char c) { return std::isdigit(c) != 0; }) &&
-              std::stoi(slot) < environment.obstacle_slots;
-    }
-    if (known) continue;
+    if (objects.count(r.name)) continue;
     throw core::InputError(r.file.string(), r.key,
-                           std::string("no ") + (surface ? "surface" : "object") + " '" + r.name +
-                               "' in environment '" + environment.name + "' (used by " + r.use +
-                               "; " +
-                               (surface ? "its surfaces: " + listing(surfaces)
-                                        : "it knows: " + listing(objects) + slots) +
-                               ")",
+                           "no object '" + r.name + "' in environment '" + environment.name +
+                               "' (used by " + r.use + "; it knows: " + known + ")",
                            r.line);
   }
 }

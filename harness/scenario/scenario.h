@@ -40,7 +40,6 @@ struct PlannerConfig {
 // it is written: checked against every environment the scenario runs in (check_names).
 struct NameRef {
   std::string name;
-  core::NameKind kind = core::NameKind::kObject;
   std::filesystem::path file;
   std::string key;
   int line = 0;
@@ -99,9 +98,9 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
                        core::ProgramRegistry& registry, ReplacedLists replaced = {});
 
 // Throws core::InputError naming the file, line and key of the first of `s.names` that
-// `environment` does not know: as the perceptual model names them, its objects (a debris
-// object's bodies each), `visitor` where it has one and `obstacle_<slot>` for its obstacle
-// slots; a surface parameter only its surfaces.
+// `environment` does not know: as the perceptual model names them, its objects and surfaces
+// (a debris object's bodies each), `visitor` where it has one and `obstacle_<slot>` for its
+// obstacle slots.
 void check_names(const Scenario& s, const core::EnvironmentSpec& environment);
 
 // What `taskmatrix run FILE` runs: the scenario in FILE, or the scenarios a suite includes.

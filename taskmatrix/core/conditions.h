@@ -126,7 +126,7 @@ ConditionRegistry& condition_registry();
 // Adds a condition to condition_registry() when the program starts, so a user's condition is
 // one file of the executable that uses it (a static library's unreferenced file is dropped by
 // the linker: list the file in the executable's sources):
-//   static const ConditionRegistration kTaller{{"taller", 2, 2, {ConditionArgKind::kName},
+//   static const ConditionRegistration kTaller{{"taller", 2, 2, {ConditionArgKind::kObject},
 //       [](const std::vector<ConditionArg>& a) { return taller(a[0].name, a[1].name); }}};
 // Throws (ending the program at start) what ConditionRegistry::add throws.
 struct ConditionRegistration {

@@ -16,10 +16,10 @@ enum class ParamType { kString, kNumber, kInteger, kBool, kStringList };
 const char* to_string(ParamType type);
 
 // What a string parameter's value names in the world, so that `taskmatrix validate` and `run`
-// check it against every environment of a scenario before anything runs: nothing (kNone), a
-// thing the perceptual model knows (kObject: an environment's object, a debris flake, the
-// visitor, an obstacle), or a surface (kSurface).
-enum class NameKind { kNone, kObject, kSurface };
+// check it against every environment of a scenario before anything runs: nothing (kNone), or
+// a thing the perceptual model knows (kObject: an environment's object or surface, a debris
+// flake, the visitor, an obstacle).
+enum class NameKind { kNone, kObject };
 using ParamValue = std::variant<std::string, double, std::int64_t, bool, std::vector<std::string>>;
 
 struct ParamSpec {

@@ -15,6 +15,12 @@
 
 namespace taskmatrix::core {
 
+// The id an obstacle of slot `slot` is perceived by: "obstacle_<slot>" (docs/perception.md).
+inline constexpr std::string_view kObstacleIdPrefix = "obstacle_";
+inline std::string obstacle_id(int slot) {
+  return std::string(kObstacleIdPrefix) + std::to_string(slot);
+}
+
 // One primitive of an object's collision geometry, as perception reports it (recognition
 // knows the model of what it recognises): programs derive grasps from these.
 struct Shape {

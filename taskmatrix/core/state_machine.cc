@@ -377,14 +377,18 @@ void register_machine(const MachineSpec& spec, ProgramRegistry& registry) {
 std::vector<std::string> machine_warnings(const MachineSpec& spec) {
   std::vector<std::string> out;
   const std::string m = "machine '" + spec.name + "'";
-  // States reached from the initial one by transitions, which fire from states and from
-  // concurrent programs (running whatever state the machine is in).
-  std::set<std::string> reached{spec.initial};
+  // States reached from the initial one by transitions, which fire from states reached and
+  // from concurrent programs started (with the machine, or by a transition that fires).
+  std::set<std::string> reached{spec.initial}, started;
+  for (const ConcurrentProgram& c : spec.concurrent) {
+    if (c.at_start) started.insert(c.name);
+  }
   for (bool grew = true; grew;) {
     grew = false;
     for (const MachineTransition& t : spec.transitions) {
-      const bool from_here = reached.count(t.from) > 0 || find_concurrent(spec, t.from) != nullptr;
-      if (from_here && !t.to.empty() && reached.insert(t.to).second) grew = true;
+      if (!reached.count(t.from) && !started.count(t.from)) continue;
+      if (!t.to.empty() && reached.insert(t.to).second) grew = true;
+      for (const std::string& c : t.start) grew = started.insert(c).second || grew;
     }
   }
   for (const MachineState& s : spec.states) {
@@ -424,7 +428,12 @@ void collect_names(const ProgramRegistry& registry, const std::string& program,
                    std::vector<NameUse>& out) {
   const ProgramType* type = registry.find(program);
   if (type == nullptr || depth > kMaxNesting) return;
-  const Params params = check_params(type->params, raw);
+  Params params;
+  try {
+    params = check_params(type->params, raw);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
   auto origin_of = [&](const std::string& param) {
     const auto it = origins.find(param);
     return it != origins.end() ? it->second : Origin{"", true, call.file, call.spot};
@@ -435,8 +444,8 @@ void collect_names(const ProgramRegistry& registry, const std::string& program,
     const std::string& value = params.text(p.name);
     if (value.empty()) continue;  // an optional parameter left out
     const Origin o = origin_of(p.name);
-    out.push_back({value, p.names, o.param, o.defaulted, path + ": parameter '" + p.name + "'",
-                   o.file, o.spot});
+    out.push_back(
+        {value, o.param, o.defaulted, path + ": parameter '" + p.name + "'", o.file, o.spot});
   }
   if (machine == nullptr) return;
   const MachineSpec& m = *machine;
@@ -453,14 +462,12 @@ void collect_names(const ProgramRegistry& registry, const std::string& program,
   auto condition_names = [&](const std::string& text, const SourceSpot& spot,
                              const std::string& where) {
     for (const std::string& word : condition_object_names(text)) {
-      if (!word.empty() && word.front() == '$') {
-        const std::string ref = word.substr(1);
-        const Origin o = origin_of(ref);
-        out.push_back({param_text(params.values().at(ref)), NameKind::kObject, o.param, o.defaulted,
-                       where, o.file, o.spot});
-      } else {
-        out.push_back({word, NameKind::kObject, "", false, where, m.source, spot});
-      }
+      // "$x" alone is the parameter x's value; a word with "$x" inside is the machine's own.
+      const std::string name = substitute_condition(word, params);
+      const std::string ref = word.size() > 1 && word.front() == '$' ? word.substr(1) : "";
+      const bool whole = !ref.empty() && params.values().count(ref) > 0;
+      const Origin o = whole ? origin_of(ref) : Origin{"", false, m.source, spot};
+      out.push_back({name, o.param, o.defaulted, where, o.file, o.spot});
     }
   };
   for (const ConcurrentProgram& c : m.concurrent) {

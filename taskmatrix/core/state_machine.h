@@ -89,7 +89,6 @@ std::vector<std::string> machine_warnings(const MachineSpec& spec);
 // or invariant (ConditionArgKind::kObject), followed through machines' "$x" references.
 struct NameUse {
   std::string name;
-  NameKind kind = NameKind::kObject;
   // The call's own parameter it came from ("" when a machine wrote it as it is), and whether
   // that parameter was left at its default.
   std::string param;

@@ -41,13 +41,7 @@ core::MessageType message(const YamlNode& node) {
   }
 }
 
-// Lines of states and transitions, for errors found by check_machine.
-struct Lines {
-  std::map<std::string, std::pair<std::string, int>> states;  // name -> key, line
-  std::vector<std::pair<std::string, int>> transitions;
-};
-
-core::MachineSpec read(const YamlNode& root, Lines* lines) {
+core::MachineSpec read(const YamlNode& root) {
   root.expect_keys({"name", "doc", "parameters", "concurrent", "initial", "states", "transitions"});
   core::MachineSpec spec;
   spec.source = root.file();
@@ -82,7 +76,6 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
       if (auto at_start = node.optional("at_start")) c.at_start = at_start->as_bool();
       c.spot = {node.key(), node.line()};
       spec.concurrent.push_back(std::move(c));
-      if (lines) lines->states[name] = {node.key(), node.line()};
     }
   }
   for (const auto& [name, node] : root.required("states").entries()) {
@@ -102,7 +95,6 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
     }
     s.spot = {node.key(), node.line()};
     spec.states.push_back(std::move(s));
-    if (lines) lines->states[name] = {node.key(), node.line()};
   }
   spec.initial = root.required("initial").as_string();
   if (auto transitions = root.optional("transitions")) {
@@ -117,7 +109,6 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
       if (auto stop = node.optional("stop")) t.stop = stop->as_strings();
       t.spot = {node.key(), node.line()};
       spec.transitions.push_back(std::move(t));
-      if (lines) lines->transitions.push_back({node.key(), node.line()});
     }
   }
   return spec;
@@ -126,7 +117,7 @@ core::MachineSpec read(const YamlNode& root, Lines* lines) {
 }  // namespace
 
 core::MachineSpec load_machine_spec(const std::filesystem::path& file) {
-  return read(YamlNode::load_file(file), nullptr);
+  return read(YamlNode::load_file(file));
 }
 
 void load_and_register_machine(const std::filesystem::path& file, core::ProgramRegistry& registry) {
@@ -134,32 +125,28 @@ void load_and_register_machine(const std::filesystem::path& file, core::ProgramR
 }
 
 std::string register_machine_node(const YamlNode& root, core::ProgramRegistry& registry) {
-  Lines lines;
-  const core::MachineSpec spec = read(root, &lines);
+  const core::MachineSpec spec = read(root);
   try {
     core::register_machine(spec, registry);
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
-    std::string key;
-    int line = 0;
-    for (const auto& [name, at] : lines.states) {
-      if (what.find("state '" + name + "'") != std::string::npos ||
-          what.find("program '" + name + "'") != std::string::npos) {
-        key = at.first;
-        line = at.second;
-      }
+    core::SourceSpot at{root.key(), root.line()};
+    auto names = [&](const std::string& name) {
+      return what.find("state '" + name + "'") != std::string::npos ||
+             what.find("program '" + name + "'") != std::string::npos;
+    };
+    for (const core::ConcurrentProgram& c : spec.concurrent) {
+      if (names(c.name)) at = c.spot;
     }
-    for (size_t k = 0; k < lines.transitions.size(); ++k) {
+    for (const core::MachineState& s : spec.states) {
+      if (names(s.name)) at = s.spot;
+    }
+    for (size_t k = 0; k < spec.transitions.size(); ++k) {
       if (what.find("transition " + std::to_string(k) + " ") != std::string::npos) {
-        key = lines.transitions[k].first;
-        line = lines.transitions[k].second;
+        at = spec.transitions[k].spot;
       }
     }
-    if (key.empty()) {
-      key = root.key();
-      line = root.line();
-    }
-    throw core::InputError(root.file(), key, what, line);
+    throw core::InputError(root.file(), at.key, what, at.line);
   }
   return spec.name;
 }

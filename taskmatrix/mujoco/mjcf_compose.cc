@@ -20,6 +20,7 @@
 #include <tinyxml2.h>
 
 #include "taskmatrix/core/input_error.h"
+#include "taskmatrix/core/perceptual_model.h"
 
 namespace taskmatrix::mujoco {
 
@@ -343,15 +344,11 @@ void degrees_to_radians(XMLElement* root, const MjcfSource& src) {
 
 std::string obstacle_body_name(int slot) { return "tm_obstacle_" + std::to_string(slot); }
 
-namespace {
-const std::string kObstaclePrefix = "obstacle_";
-}  // namespace
-
-std::string obstacle_name(int slot) { return kObstaclePrefix + std::to_string(slot); }
+std::string obstacle_name(int slot) { return core::obstacle_id(slot); }
 
 int obstacle_slot_named(const std::string& name) {
-  if (name.rfind(kObstaclePrefix, 0) != 0) return -1;
-  const std::string digits = name.substr(kObstaclePrefix.size());
+  if (name.rfind(core::kObstacleIdPrefix, 0) != 0) return -1;
+  const std::string digits = name.substr(core::kObstacleIdPrefix.size());
   if (digits.empty() || digits.size() > 6 ||
       !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
     return -1;

@@ -467,7 +467,7 @@ core::ProgramType explore_program() {
             std::string(),
             {},
             "a known surface's top",
-            core::NameKind::kSurface},
+            core::NameKind::kObject},
            {"bounds",
             ParamType::kStringList,
             false,

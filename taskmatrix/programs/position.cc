@@ -244,7 +244,7 @@ core::ProgramType position_program() {
             std::string(),
             {},
             "a surface: place the held object resting on it (above and near)",
-            core::NameKind::kSurface},
+            core::NameKind::kObject},
            {"height",
             ParamType::kNumber,
             false,

@@ -40,7 +40,7 @@ const ConditionRegistration kHigher{
     {"higher",
      2,
      3,
-     {ConditionArgKind::kName, ConditionArgKind::kName, ConditionArgKind::kNumber},
+     {ConditionArgKind::kObject, ConditionArgKind::kObject, ConditionArgKind::kNumber},
      [](const std::vector<ConditionArg>& a) {
        return std::make_shared<Higher>(a[0].name, a[1].name, a.size() == 3 ? a[2].number : 0.0);
      }}};

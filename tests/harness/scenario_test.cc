@@ -272,9 +272,9 @@ TEST_F(ScenarioFiles, ValidateRefusesANameNoEnvironmentKnowsWithWhereItIsWritten
   const std::string surface =
       refusal("program: putdown\nparams: {object: cup, surface: side_surfac}\n" + where +
               "setup:\n  - {program: pickup, params: {object: cup}}\n");
-  EXPECT_EQ(surface.rfind(file + ":2: params.surface: no surface 'side_surfac' in environment "
+  EXPECT_EQ(surface.rfind(file + ":2: params.surface: no object 'side_surfac' in environment "
                                  "'kitchen' (used by putdown > position(place): parameter 'on'; "
-                                 "its surfaces: side_surface, work_surface)",
+                                 "it knows: box, cup, ",
                           0),
             0u)
       << surface;
@@ -298,7 +298,7 @@ TEST_F(ScenarioFiles, ValidateRefusesANameNoEnvironmentKnowsWithWhereItIsWritten
     - {from: wave, on: completed, to: done}
 )yaml";
   const std::string by_default = refusal(machine + where);
-  EXPECT_EQ(by_default.rfind(file + ":3: machine.parameters.to: no surface 'counter'", 0), 0u)
+  EXPECT_EQ(by_default.rfind(file + ":3: machine.parameters.to: no object 'counter'", 0), 0u)
       << by_default;
   EXPECT_NE(by_default.find("(used by carry > putdown(place) > position(place): parameter 'on' "
                             "(the default of 'to');"),
@@ -321,8 +321,49 @@ TEST_F(ScenarioFiles, ValidateRefusesANameNoEnvironmentKnowsWithWhereItIsWritten
   EXPECT_EQ(refusal("program: fixate\nparams: {object: debris_4}\n" + where), "validated");
   EXPECT_EQ(refusal("program: fixate\nparams: {object: obstacle_3}\n" + where), "validated");
   EXPECT_EQ(refusal("program: fixate\nparams: {object: visitor}\n" + where), "validated");
-  const std::string slot = refusal("program: fixate\nparams: {object: obstacle_400}\n" + where);
-  EXPECT_NE(slot.find("no object 'obstacle_400'"), std::string::npos) << slot;
+  for (const char* slot : {"obstacle_400", "obstacle_007"}) {
+    const std::string refused =
+        refusal("program: fixate\nparams: {object: " + std::string(slot) + "}\n" + where);
+    EXPECT_NE(refused.find("no object '" + std::string(slot) + "'"), std::string::npos) << refused;
+  }
+  // A guard's word with a parameter inside it is checked as the machine makes it.
+  const std::string numbered = R"yaml(machine:
+  name: watch
+  parameters: {n: {type: string, default: "3"}}
+  initial: look
+  states:
+    look: {program: fixate, params: {object: cup}}
+    done: {final: success}
+  transitions:
+    - {from: look, on: completed, to: done, when: "in_view(obstacle_$n)"}
+)yaml";
+  EXPECT_EQ(refusal(numbered + where), "validated");
+  const std::string padded = refusal(numbered + "params: {n: \"007\"}\n" + where);
+  EXPECT_NE(padded.find("no object 'obstacle_007'"), std::string::npos) << padded;
+  // Every environment listed is asked: one without a visitor, listed second.
+  test::ScratchRoot root;
+  const std::filesystem::path environments = root.path() / "models" / "environments";
+  std::filesystem::copy(environments / "kitchen", environments / "bare",
+                        std::filesystem::copy_options::recursive);
+  root.replace("models/environments/bare/environment.yaml", "name: kitchen\n", "name: bare\n");
+  root.replace("models/environments/bare/environment.yaml",
+               "visitor: {body: visitor, path: [[2.5, -1.0], [2.5, 1.0]]}\n", "");
+  core::ProgramRegistry fresh;
+  programs::register_programs(fresh);
+  const auto greet = write("greet.yaml",
+                           "program: greet\nrobots: [minibot]\nenvironments: "
+                           "[kitchen, bare]\n");
+  try {
+    validate_run_plan(ModelCatalog(root.path()), fresh, greet);
+    ADD_FAILURE() << "validated";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(greet.string() +
+                                              ":1: params.target: no object "
+                                              "'visitor' in environment 'bare' (used by greet",
+                                          0),
+              0u)
+        << e.what();
+  }
 }
 
 // validate warns, and still validates, where a machine leaves a state no transition leads to
@@ -361,6 +402,28 @@ environments: [kitchen]
                              "the machine can only fail"),
             std::string::npos)
       << warnings[2];
+  // A concurrent program never started fires no transition: the success it alone leads to
+  // is never reached.
+  const std::string idle = R"(machine:
+  name: idle_watch
+  concurrent:
+    watch: {program: fixate, params: {object: cup}, at_start: false}
+  initial: take
+  states:
+    take: {program: pickup, params: {object: cup}}
+    done: {final: success}
+    gave_up: {final: failure}
+  transitions:
+    - {from: take, on: completed, to: gave_up}
+    - {from: watch, on: completed, to: done}
+robots: [minibot]
+environments: [kitchen]
+)";
+  warnings.clear();
+  validate_run_plan(test::catalog(), registry_, write("i.yaml", idle), &warnings);
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_NE(warnings[0].find("state 'done' is never reached"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[1].find("no final state with success"), std::string::npos) << warnings[1];
   // The built-in machines (pickup, putdown, greet, vacuum) and the task files: none.
   for (const char* task : {"tidy.yaml", "chores.yaml", "restock.yaml"}) {
     core::ProgramRegistry fresh;
