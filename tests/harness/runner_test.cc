@@ -13,6 +13,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include <mujoco/mujoco.h>
@@ -43,6 +44,7 @@ class Misbehaving : public core::TaskProgram {
     if (how_ == "segfault") std::raise(SIGSEGV);
     if (how_ == "mju_error") mju_error("injected by the test");
     if (how_ == "hang") std::this_thread::sleep_for(std::chrono::hours(1));
+    if (how_ == "throw") throw std::runtime_error("thrown by the test");
     if (how_ == "diverge") {
       // Accelerations no physics can follow: MuJoCo flags bad accelerations.
       const std::vector<std::string> chain = chains(ctx.skills());
@@ -58,7 +60,7 @@ class Misbehaving : public core::TaskProgram {
 };
 
 void register_misbehaving(core::ProgramRegistry& registry) {
-  for (const char* how : {"segfault", "mju_error", "hang", "diverge"}) {
+  for (const char* how : {"segfault", "mju_error", "hang", "diverge", "throw"}) {
     registry.add({std::string("test_") + how, "misbehaves", {}, [how](const core::Params&) {
                     return std::make_unique<Misbehaving>(how);
                   }});
@@ -269,12 +271,13 @@ TEST_F(Runner, CrashesHangsAndDivergenceAreStatusesAndTheRunGoesOn) {
   write("mju_error.yaml", "program: test_mju_error\n" + tail);
   write("hang.yaml", "program: test_hang\n" + tail);
   write("diverge.yaml", "program: test_diverge\n" + tail);
+  write("throw.yaml", "program: test_throw\n" + tail);
   write("fine.yaml", "program: postural\nparams: {posture: rest}\n" + tail);
   const auto suite = write("faults.yaml",
                            "suite: faults\nscenarios: [segfault.yaml, "
-                           "mju_error.yaml, hang.yaml, diverge.yaml, fine.yaml]\n");
+                           "mju_error.yaml, hang.yaml, diverge.yaml, throw.yaml, fine.yaml]\n");
   const RunJobResult r = run(suite, "faults", 2);
-  EXPECT_EQ(r.finished, 5);
+  EXPECT_EQ(r.finished, 6);
   const auto t = by_id(r.dir);
   auto get = [&](const std::string& scenario) {
     return t.at(scenario + ".minibot.kitchen.RRTConnect.l1.s1");
@@ -289,6 +292,11 @@ TEST_F(Runner, CrashesHangsAndDivergenceAreStatusesAndTheRunGoesOn) {
   EXPECT_GE(get("hang")["wall_time_s"].get<double>(), 3.0);
   EXPECT_LT(get("hang")["wall_time_s"].get<double>(), 10.0);
   EXPECT_EQ(get("diverge")["status"], "sim_unstable") << get("diverge")["failure_reason"];
+  // A program that throws fails its own trial with the exception's text; the worker lives on.
+  EXPECT_EQ(get("throw")["status"], "program_error") << get("throw")["failure_reason"];
+  EXPECT_NE(get("throw")["failure_reason"].get<std::string>().find("thrown by the test"),
+            std::string::npos)
+      << get("throw")["failure_reason"];
   EXPECT_EQ(get("fine")["status"], "success") << get("fine")["failure_reason"];
   // What was not measured is null, not zero.
   EXPECT_TRUE(get("segfault")["planning_time_s"].is_null());
