@@ -93,7 +93,8 @@ struct NameUse {
   // that parameter was left at its default.
   std::string param;
   bool defaulted = false;
-  // Where it is used: "pickup > reach: parameter 'object'", "tidy, state 'wait' invariant".
+  // Where it is used: "pickup > reach(reach): parameter 'object'", "tidy, state 'wait'
+  // invariant".
   std::string path;
   // Where a machine file wrote it, when it came from no parameter of the call.
   std::string file = "";
