@@ -86,37 +86,23 @@ void add_names(Scenario& s, const core::ProgramRegistry& registry, const Program
   std::vector<core::NameUse> uses;
   try {
     uses = core::names_used(registry, call.program, call.params);
-  } catch (
-      const std::invalid_argument& e) {  // a value a machine passes on that its program refuses
+  } catch (const std::invalid_argument& e) {
+    // A value a machine passes on that the program it calls refuses.
     (params_node ? *params_node : program_node).fail(e.what());
   }
   for (const core::NameUse& u : uses) {
-    NameRef r;
-    r.name = u.name;
-    r.use = u.path;
+    NameRef r{u.name, s.file, prefix + "program", program_node.line(), u.path};
     if (!u.param.empty()) {
-      r.file = s.file;
-      r.key = prefix + "params." + u.param;
-      const std::optional<io::YamlNode> given =
-          params_node && !u.defaulted ? params_node->optional(u.param) : std::nullopt;
-      r.line = given ? given->line() : program_node.line();
-      const std::optional<io::YamlNode> written =
-          u.defaulted && defaults_node ? defaults_node->optional(u.param) : std::nullopt;
-      if (written) {
-        r.key = written->key();
-        r.line = written->line();
-      }
-      if (u.defaulted) r.use += " (the default of '" + u.param + "')";
+      // Given in the call's params, or a default written in the inline machine's parameters.
+      const std::optional<io::YamlNode>& in = u.defaulted ? defaults_node : params_node;
+      const std::optional<io::YamlNode> written = in ? in->optional(u.param) : std::nullopt;
+      r.key = written ? written->key() : prefix + "params." + u.param;
+      if (written) r.line = written->line();
     } else if (!u.file.empty() && !u.spot.key.empty()) {
-      r.file = u.file;
-      r.key = u.spot.key;
-      r.line = u.spot.line;
-      if (u.defaulted) r.use += " (its default)";
-    } else {
-      r.file = s.file;
-      r.key = prefix + "program";
-      r.line = program_node.line();
-      if (u.defaulted) r.use += " (its default)";
+      r = {u.name, u.file, u.spot.key, u.spot.line, u.path};
+    }
+    if (u.defaulted) {
+      r.use += u.param.empty() ? " (its default)" : " (the default of '" + u.param + "')";
     }
     s.names.push_back(std::move(r));
   }
@@ -400,13 +386,10 @@ Scenario load_scenario(const std::filesystem::path& file, const ModelCatalog& ca
 void check_names(const Scenario& s, const core::EnvironmentSpec& environment) {
   std::set<std::string> objects;
   for (const auto& [name, spec] : environment.objects) {
-    if (spec.bodies.size() == 1) {
-      objects.insert(name);
-    } else {
-      objects.insert(spec.bodies.begin(), spec.bodies.end());
-    }
+    for (const std::string& body : spec.bodies)
+      objects.insert(core::perceived_id(name, spec, body));
   }
-  if (!environment.visitor.body.empty()) objects.insert("visitor");
+  if (!environment.visitor.body.empty()) objects.insert(core::kVisitorId);
   std::string known;
   for (const std::string& n : objects) known += (known.empty() ? "" : ", ") + n;
   // The obstacles as the perceptual model names them.

@@ -11,11 +11,19 @@
 
 #include <Eigen/Geometry>
 
+#include "taskmatrix/core/environment_spec.h"
 #include "taskmatrix/core/planning_types.h"
 
 namespace taskmatrix::core {
 
-// The id an obstacle of slot `slot` is perceived by: "obstacle_<slot>" (docs/perception.md).
+// The ids things are perceived by (docs/perception.md): an environment's object by its name
+// when it is one body, else each of its bodies by the body's name (the debris flakes); the
+// visitor as "visitor"; the obstacle of slot `slot` as "obstacle_<slot>".
+inline const std::string& perceived_id(const std::string& name, const ObjectSpec& spec,
+                                       const std::string& body) {
+  return spec.bodies.size() == 1 ? name : body;
+}
+inline constexpr const char* kVisitorId = "visitor";
 inline constexpr std::string_view kObstacleIdPrefix = "obstacle_";
 inline std::string obstacle_id(int slot) {
   return std::string(kObstacleIdPrefix) + std::to_string(slot);

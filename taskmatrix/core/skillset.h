@@ -239,6 +239,8 @@ class Skillset {
   bool recording_states() const { return record_every_ > 0; }
   // The frames recorded since the last record_states() call (empty if never asked).
   const StateRecording& recording() const { return recording_; }
+  // The name of joint `index` of the chains' concatenation; throws std::out_of_range past it.
+  const std::string& joint_name(const std::vector<std::string>& chain_names, size_t index) const;
 
  protected:
   // ---- The backend's hooks. Chains are known, distinct and non-empty; value vectors have one
@@ -318,8 +320,6 @@ class Skillset {
   // The index of the first value outside the chains' limits (beyond rounding), or -1.
   int outside_limits(const std::vector<std::string>& chain_names, const std::vector<double>& values,
                      double tolerance) const;
-  // The name of joint `index` of the chains' concatenation.
-  const std::string& joint_name(const std::vector<std::string>& chain_names, size_t index) const;
   // Checks of the planning calls' common arguments; a failure result when they are bad.
   std::optional<PlanResult> plan_input_error(const std::vector<std::string>& chain_names,
                                              const PlanOptions& options) const;

@@ -132,16 +132,7 @@ std::optional<ExecutionReport> TrajectoryFollower::step() {
       const double e = std::abs(q[i] - motion_.goal[static_cast<Eigen::Index>(i)]);
       if (e > std::abs(q[worst] - motion_.goal[static_cast<Eigen::Index>(worst)])) worst = i;
     }
-    std::string joint;
-    size_t offset = 0;
-    for (const std::string& c : chains_) {
-      const std::vector<std::string>& names = skills_.chain(c).joints;
-      if (worst < offset + names.size()) {
-        joint = names[worst - offset];
-        break;
-      }
-      offset += names.size();
-    }
+    const std::string joint = q.empty() ? std::string() : skills_.joint_name(chains_, worst);
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "%.4f from the goal after %.2f s of settling (joint '%s' at %.4f, sent to %.4f)",

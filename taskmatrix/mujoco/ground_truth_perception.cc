@@ -180,7 +180,7 @@ std::vector<SceneThing> scene_things(const MujocoSkillset& skills) {
     for (const std::string& b : spec.bodies) {
       if (skills.removed(body_id(b))) continue;  // vacuumed up
       SceneThing t;
-      t.id = spec.bodies.size() == 1 ? name : b;
+      t.id = core::perceived_id(name, spec, b);
       t.type = type_name(spec.kind);
       t.body = body_id(b);
       t.subtree = spec.kind != core::ObjectKind::kSurface;
@@ -190,7 +190,7 @@ std::vector<SceneThing> scene_things(const MujocoSkillset& skills) {
     }
   }
   if (!scene.environment().visitor.body.empty()) {
-    out.push_back({"visitor", "humanoid", body_id(scene.environment().visitor.body), true});
+    out.push_back({core::kVisitorId, "humanoid", body_id(scene.environment().visitor.body), true});
   }
   const std::vector<ObstacleSlot>& slots = scene.obstacle_slots();
   for (size_t s = 0; s < slots.size(); ++s) {
